@@ -1,0 +1,13 @@
+#include "bdinterp/distortion.h"
+#include "bindings.h"
+
+namespace bdinterp::bindings {
+
+void bind_distortion(py::module_& m) {
+  m.def("conformal_distortion", &conformal_distortion, py::arg("source"), py::arg("result"),
+        py::arg("faces"), "Per-face K = sigma_max / sigma_min of the affine map source -> result.");
+  m.def("area_ratio", &area_ratio, py::arg("source"), py::arg("result"), py::arg("faces"),
+        "Per-face signed area ratio result / source (negative: flipped).");
+}
+
+}  // namespace bdinterp::bindings

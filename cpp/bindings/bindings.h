@@ -1,0 +1,23 @@
+// One binder per area of the library; module.cpp calls them all.
+#pragma once
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "bdinterp/types.h"
+
+namespace bdinterp::bindings {
+
+namespace py = pybind11;
+
+// Views of numpy arrays without copies when they are C-contiguous float64 (n,2) / int32 (m,3).
+using PositionsRef = Eigen::Ref<const Positions>;
+using FacesRef = Eigen::Ref<const Faces>;
+
+void bind_interpolator(py::module_& m);
+void bind_distortion(py::module_& m);
+void bind_baselines(py::module_& m);
+
+}  // namespace bdinterp::bindings

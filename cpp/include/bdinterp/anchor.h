@@ -1,0 +1,76 @@
+// Step 4 of the method: the three rigid degrees of freedom (paper Sec. 3) that the metric leaves open.
+//
+// An anchor is a point of the shape (its area-weighted centroid, or one vertex) and an orientation
+// (the base-area-weighted mean of the per-face rotations relative to the base shape, over the whole
+// piece or the anchor vertex's faces). Per-face rotations are unwrapped across neighbouring faces, so a
+// limb turned by 540 degrees measures 3 pi, not -pi/2; the whole-shape branch is the one in which the
+// area-weighted median face turns by at most pi (the bulk of the shape turns least). In-betweens get
+// the weighted blend of the inputs' anchors, which keeps every input exact and is continuous.
+#pragma once
+
+#include <vector>
+
+#include "bdinterp/mesh.h"
+
+namespace bdinterp {
+
+// A user-given anchor trajectory for two-shape interpolation: at t[k] the anchor point is at
+// position.row(k) and turned by angle[k] radians (piecewise linear in between, clamped outside).
+// The path is corrected by the linear function of t that makes it pass through the inputs' own
+// anchors at t = 0 and t = 1, so the source and target stay exact whatever the path's ends.
+struct AnchorPath {
+  std::vector<double> t;  // strictly increasing
+  Positions position;     // t.size() by 2
+  std::vector<double> angle;
+};
+
+struct Anchor {
+  enum class Mode { Centroid, Vertex, Path };
+  Mode mode = Mode::Centroid;
+  int vertex = -1;  // Vertex mode; in Path mode the vertex that follows the path (-1: the centroid)
+  AnchorPath path;
+
+  static Anchor centroid() { return {}; }
+  static Anchor at_vertex(int v) { return {Mode::Vertex, v, {}}; }
+  static Anchor along(AnchorPath p, int v = -1) { return {Mode::Path, v, std::move(p)}; }
+};
+
+// Rigid placement data of one shape of one disk.
+struct Frame2 {
+  Eigen::Vector2d point;
+  double angle;
+};
+
+// Measures anchors of shapes of one disk relative to its base shape.
+class AnchorFrame {
+ public:
+  // disk: the piece; base: its base shape (#V by 2); vertex: the anchor vertex in local numbering,
+  // or -1 for the centroid.
+  AnchorFrame(const Mesh& disk, const Positions& base, int vertex);
+
+  // Anchor of input shape X: the angle is on the branch where the bulk turns least.
+  Frame2 measure_input(const Positions& X) const;
+  // Rigidly moves X so that its anchor becomes `target` (its own branch is irrelevant here).
+  void place(Positions& X, const Frame2& target) const;
+  // Per-face rotation of X relative to the base (closest rotation of the affine map), unwrapped
+  // across neighbouring faces; branch as it falls.
+  Eigen::VectorXd face_rotations(const Positions& X) const;
+  // face_rotations shifted by a multiple of 2 pi so that the base-area-weighted median face turns by
+  // at most pi: the branch on which the bulk of the shape turns least.
+  Eigen::VectorXd bulk_rotations(const Positions& X) const;
+
+ private:
+  double region_angle(const Eigen::VectorXd& rot) const;
+  Eigen::Vector2d point_of(const Positions& X) const;
+
+  const Mesh* mesh_;
+  int vertex_;
+  std::vector<Eigen::Matrix2d> base_inverse_;  // per face: inverse of the base edge matrix
+  Eigen::VectorXd weight_;                     // per face: base area inside the region, else 0
+  std::vector<std::array<int, 3>> tree_;       // dual BFS: (face, parent, shared edge)
+};
+
+// The anchor of an in-between: the weighted blend of the inputs' anchors (path-corrected in Path mode).
+Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor);
+
+}  // namespace bdinterp

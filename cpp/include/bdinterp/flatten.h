@@ -1,0 +1,91 @@
+// Step 2 of the method: make the blended metric flat by a discrete conformal change (CETM,
+// Springborn, Schroeder & Pinkall 2008), keeping the boundary fixed (u = 0 there, paper Sec. 3).
+//
+// Convention: the flattened squared length of edge ij is exp(u_i + u_j) * l2_ij. The convex energy
+//   E(u) = sum_faces [ sum_m (alpha_m lambda_m + 2 L(alpha_m)) - pi/2 sum_m lambda_m ] + sum_i 2pi u_i,
+// with lambda_m = log of the scaled squared length of edge m, alpha_m the angle opposite it and L
+// Lobachevsky's function, has gradient g_i = 2pi - (angle sum at i) at interior vertices and the
+// cotan Laplacian (weights (cot a + cot b) / 2) as Hessian. Newton with a line search on E.
+#pragma once
+
+#include <Eigen/Sparse>
+#include <memory>
+
+#include "bdinterp/mesh.h"
+#include "bdinterp/sparse_cholesky.h"
+
+namespace bdinterp {
+
+struct FlattenOptions {
+  double tolerance = 1e-10;  // stop when max |2pi - angle sum| over interior vertices <= tolerance
+  int max_iterations = 50;   // Newton steps before giving up with SolverError
+};
+
+struct FlattenReport {
+  int iterations = 0;            // Newton steps taken
+  double residual = 0;           // final max |2pi - angle sum| (radians)
+  int broken_triangles = 0;      // faces violating the triangle inequality in the final metric
+  int max_broken_triangles = 0;  // the most seen at any Newton iterate
+  int line_search_steps = 0;     // step halvings over all iterations
+};
+
+class Flattener {
+ public:
+  // disk: one connected piece with one boundary loop (see split_into_disks). Builds the sparsity
+  // pattern of the interior cotan Laplacian and runs CHOLMOD's symbolic analysis once.
+  explicit Flattener(const Mesh& disk);
+  Flattener(const Flattener&) = delete;
+  Flattener(Flattener&&) noexcept;
+  ~Flattener();
+  // A copy with its own CHOLMOD workspace, for use on another thread.
+  std::unique_ptr<Flattener> clone() const;
+
+  // l2: #E blended squared edge lengths. u: #V conformal factors; on input the initial guess
+  // (boundary entries are ignored), on output the solution (0 on the boundary). Throws SolverError
+  // if `options.tolerance` is not reached within `options.max_iterations` steps.
+  FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
+                      const FlattenOptions& options = {});
+
+  // The pieces of the solve, exposed for tests and diagnostics (all sized #V; boundary entries of
+  // gradients are 0).
+  double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  // max |2pi - angle sum| over interior vertices.
+  double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  int num_interior() const { return num_interior_; }
+  bool is_interior(int v) const { return interior_index_[v] >= 0; }
+
+ private:
+  struct Eval {
+    double energy = 0;
+    double residual = 0;
+    int broken = 0;
+  };
+  // One pass over the faces: angle sums into grad_ (interior numbering), optionally the energy and
+  // the Hessian values into the CHOLMOD matrix.
+  Eval evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
+                bool want_hessian) const;
+
+  explicit Flattener(const Mesh* mesh) : mesh_(mesh) {}
+
+  const Mesh* mesh_;
+  int num_interior_ = 0;
+  int nnz_ = 0;
+  std::vector<int> interior_index_;  // #V, -1 on the boundary
+  std::vector<int> interior_vertex_;  // inverse map
+  std::vector<int> diag_pos_;         // #interior: position of the diagonal entry in the values
+  std::vector<int> edge_pos_;         // #E: position of the off-diagonal entry, -1 if not interior
+  std::unique_ptr<SparseCholesky> chol_;
+  mutable Eigen::VectorXd grad_;      // #interior, scratch
+  mutable Eigen::VectorXd scaled_l2_; // #E, scratch
+};
+
+// One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.
+Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2,
+                        const FlattenOptions& options = {}, FlattenReport* report = nullptr);
+
+// exp(u_i + u_j) * l2_ij for every edge.
+Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+
+}  // namespace bdinterp

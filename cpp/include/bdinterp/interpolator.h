@@ -1,0 +1,72 @@
+// The stateful tier: precompute once per mesh (topology, pieces, symbolic factorisations, the inputs'
+// squared edge lengths and anchors), then produce in-betweens for any t or weights.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "bdinterp/anchor.h"
+#include "bdinterp/flatten.h"
+
+namespace bdinterp {
+
+struct InterpolatorOptions {
+  FlattenOptions flatten;
+  int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
+};
+
+// Statistics of the last computed frame (over all pieces).
+struct FrameStats {
+  int iterations = 0;            // Newton steps (the most over pieces)
+  double residual = 0;           // max |2pi - angle sum| at interior vertices
+  int broken_triangles = 0;      // faces violating the triangle inequality at the solution
+  int max_broken_triangles = 0;  // the most seen during Newton
+  double flatness = 0;           // layout residual, see Layout::embed
+  int pieces = 0;
+};
+
+class Interpolator {
+ public:
+  // shapes: k >= 1 arrays of #V by 2 positions with the connectivity F (#F by 3). Validates everything
+  // (throws InvalidInput): sizes, indices, manifoldness, disk pieces, finite coordinates, no collapsed
+  // faces in any shape, anchor vertex in range. Vertices in no face are blended linearly.
+  Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor = {},
+               const InterpolatorOptions& options = {});
+  ~Interpolator();
+  Interpolator(const Interpolator&) = delete;
+  Interpolator& operator=(const Interpolator&) = delete;
+
+  int num_shapes() const { return static_cast<int>(shapes_.size()); }
+  int num_vertices() const { return static_cast<int>(shapes_[0].rows()); }
+
+  // Two shapes: the in-between at t (weights (1 - t, t)); t outside [0, 1] extrapolates while the
+  // metric stays valid.
+  Positions at(double t);
+  // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
+  Positions blend(const Eigen::VectorXd& w);
+  // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
+  // Each frame is warm-started from the frames before it.
+  void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
+  void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
+
+  const FrameStats& last_stats() const { return stats_; }
+  const Faces& faces() const { return F_; }
+
+ private:
+  struct PieceSolver;
+  void check_weights(const Eigen::VectorXd& w) const;
+
+  std::vector<Positions> shapes_;
+  Faces F_;
+  Anchor anchor_;
+  InterpolatorOptions options_;
+  std::vector<std::unique_ptr<PieceSolver>> pieces_;
+  std::vector<int> isolated_;
+  FrameStats stats_;
+};
+
+// One-off: interpolate between two shapes at t (builds and discards an Interpolator).
+Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,
+                      const Anchor& anchor = {});
+
+}  // namespace bdinterp

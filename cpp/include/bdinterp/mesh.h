@@ -1,0 +1,65 @@
+// Immutable topology of a triangle mesh: edges, face<->edge incidence, boundary, connected pieces.
+// Construction validates the connectivity and throws InvalidInput naming the offending elements.
+#pragma once
+
+#include <vector>
+
+#include "bdinterp/types.h"
+
+namespace bdinterp {
+
+class Mesh {
+ public:
+  // F: #F by 3 vertex indices in [0, num_vertices). Requires: no repeated index within a face, every
+  // edge shared by at most two faces with opposite orientation, every vertex's faces forming one fan.
+  // Vertices referenced by no face are allowed ("isolated"); they belong to no piece.
+  Mesh(const Faces& F, int num_vertices);
+
+  int num_vertices() const { return num_vertices_; }
+  int num_faces() const { return static_cast<int>(F_.rows()); }
+  int num_edges() const { return static_cast<int>(E_.rows()); }
+  const Faces& faces() const { return F_; }
+  // #E by 2: the two vertices of each edge, smaller index first.
+  const Edges& edges() const { return E_; }
+  // #F by 3: FE(f, c) is the edge opposite corner c of face f (joining F(f,c+1) and F(f,c+2)).
+  const Faces& face_edges() const { return FE_; }
+  // #E by 2: the faces on either side of each edge; the second is -1 on the boundary.
+  const Edges& edge_faces() const { return EF_; }
+  bool is_boundary_vertex(int v) const { return boundary_vertex_[v]; }
+  bool is_isolated_vertex(int v) const { return vertex_piece_[v] < 0; }
+
+  // Connected pieces (through shared edges). piece_of_face(f) / piece_of_vertex(v) in [0, num_pieces),
+  // -1 for isolated vertices.
+  int num_pieces() const { return num_pieces_; }
+  int piece_of_face(int f) const { return face_piece_[f]; }
+  int piece_of_vertex(int v) const { return vertex_piece_[v]; }
+  // Closed boundary loops, each a list of vertices in order; loop_piece(k) gives its piece.
+  const std::vector<std::vector<int>>& boundary_loops() const { return loops_; }
+  int loop_piece(int k) const { return loop_piece_[k]; }
+
+ private:
+  int num_vertices_;
+  Faces F_;
+  Edges E_;
+  Faces FE_;
+  Edges EF_;
+  std::vector<bool> boundary_vertex_;
+  int num_pieces_ = 0;
+  std::vector<int> face_piece_, vertex_piece_;
+  std::vector<std::vector<int>> loops_;
+  std::vector<int> loop_piece_;
+};
+
+// A connected piece extracted as a mesh of its own. `vertices` maps local to global vertex indices,
+// `faces` local to global face indices.
+struct Piece {
+  Mesh mesh;
+  std::vector<int> vertices;
+  std::vector<int> faces;
+};
+
+// Splits `mesh` into its pieces and checks each is a topological disk (exactly one boundary loop);
+// throws InvalidInput for a piece with holes or without boundary.
+std::vector<Piece> split_into_disks(const Mesh& mesh);
+
+}  // namespace bdinterp

@@ -1,0 +1,42 @@
+// CHOLMOD behind a small class: the symbolic analysis is done once per sparsity pattern, the numeric
+// factorisation and the solves are repeated without allocating.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "bdinterp/types.h"
+
+namespace bdinterp {
+
+class SparseCholesky {
+ public:
+  // n: matrix size. col_ptr (n+1) and row_idx: the LOWER triangle of a symmetric matrix in compressed
+  // column form, rows sorted within each column, diagonal included. Runs the symbolic analysis.
+  SparseCholesky(int n, const std::vector<int>& col_ptr, const std::vector<int>& row_idx);
+  ~SparseCholesky();
+  SparseCholesky(SparseCholesky&&) noexcept;
+  SparseCholesky& operator=(SparseCholesky&&) noexcept;
+  SparseCholesky(const SparseCholesky&) = delete;
+  SparseCholesky& operator=(const SparseCholesky&) = delete;
+
+  // An independent solver sharing nothing with this one (for use on another thread); copies the
+  // symbolic analysis and, if present, the numeric factor.
+  SparseCholesky clone() const;
+
+  int size() const;
+  // The numeric values, in the order of row_idx; write them, then call factorize().
+  double* values();
+  // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
+  // definite (naming the failing column) or CHOLMOD reports an error.
+  void factorize();
+  // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may alias b.
+  void solve(const double* b, double* x, int ncols = 1);
+
+ private:
+  struct Impl;
+  explicit SparseCholesky(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace bdinterp

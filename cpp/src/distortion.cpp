@@ -1,0 +1,63 @@
+#include "bdinterp/distortion.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+namespace bdinterp {
+namespace {
+
+// Calls fn(f, J) with the 2x2 Jacobian of every face after validating the arrays.
+template <typename Fn>
+void for_each_jacobian(const Positions& X0, const Positions& X1, const Faces& F, Fn fn) {
+  if (X0.rows() != X1.rows()) {
+    std::ostringstream s;
+    s << "source has " << X0.rows() << " vertices, result has " << X1.rows();
+    throw InvalidInput(s.str());
+  }
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      if (F(f, c) < 0 || F(f, c) >= X0.rows()) {
+        std::ostringstream s;
+        s << "face " << f << " has vertex index " << F(f, c) << " out of range [0, " << X0.rows() << ")";
+        throw InvalidInput(s.str());
+      }
+    }
+    Eigen::Matrix2d D0, D1;
+    D0 << X0(F(f, 1), 0) - X0(F(f, 0), 0), X0(F(f, 2), 0) - X0(F(f, 0), 0),
+        X0(F(f, 1), 1) - X0(F(f, 0), 1), X0(F(f, 2), 1) - X0(F(f, 0), 1);
+    D1 << X1(F(f, 1), 0) - X1(F(f, 0), 0), X1(F(f, 2), 0) - X1(F(f, 0), 0),
+        X1(F(f, 1), 1) - X1(F(f, 0), 1), X1(F(f, 2), 1) - X1(F(f, 0), 1);
+    const double det0 = D0.determinant();
+    if (!(std::abs(det0) > 0)) {
+      std::ostringstream s;
+      s << "face " << f << " has zero area (or a non-finite vertex) in the source";
+      throw InvalidInput(s.str());
+    }
+    fn(f, D1 * D0.inverse(), D1.determinant() / det0);
+  }
+}
+
+}  // namespace
+
+Eigen::VectorXd conformal_distortion(const Positions& source, const Positions& result, const Faces& F) {
+  Eigen::VectorXd K(F.rows());
+  for_each_jacobian(source, result, F, [&](int f, const Eigen::Matrix2d& J, double) {
+    // Closed-form singular values of a 2x2 matrix: sigma = |q| +- |r| with q, r the conformal and
+    // anti-conformal parts.
+    const double q = std::hypot(0.5 * (J(0, 0) + J(1, 1)), 0.5 * (J(1, 0) - J(0, 1)));
+    const double r = std::hypot(0.5 * (J(0, 0) - J(1, 1)), 0.5 * (J(1, 0) + J(0, 1)));
+    const double smin = std::abs(q - r);
+    K[f] = smin > 0 ? (q + r) / smin : std::numeric_limits<double>::infinity();
+  });
+  return K;
+}
+
+Eigen::VectorXd area_ratio(const Positions& source, const Positions& result, const Faces& F) {
+  Eigen::VectorXd a(F.rows());
+  for_each_jacobian(source, result, F, [&](int f, const Eigen::Matrix2d&, double ratio) { a[f] = ratio; });
+  return a;
+}
+
+}  // namespace bdinterp

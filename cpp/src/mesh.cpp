@@ -1,0 +1,237 @@
+#include "bdinterp/mesh.h"
+
+#include <algorithm>
+#include <cstdint>
+#include <numeric>
+#include <sstream>
+
+namespace bdinterp {
+namespace {
+
+std::string edge_name(int a, int b) {
+  std::ostringstream s;
+  s << "(" << std::min(a, b) << ", " << std::max(a, b) << ")";
+  return s.str();
+}
+
+// Union-find over faces, used to find connected pieces.
+struct DisjointSets {
+  std::vector<int> parent;
+  explicit DisjointSets(int n) : parent(n) { std::iota(parent.begin(), parent.end(), 0); }
+  int find(int x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  }
+  void unite(int a, int b) { parent[find(a)] = find(b); }
+};
+
+}  // namespace
+
+Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F) {
+  const int nf = static_cast<int>(F.rows());
+  if (num_vertices <= 0) throw InvalidInput("mesh has no vertices");
+  if (nf == 0) throw InvalidInput("mesh has no faces");
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int v = F(f, c);
+      if (v < 0 || v >= num_vertices) {
+        std::ostringstream s;
+        s << "face " << f << " has vertex index " << v << " out of range [0, " << num_vertices << ")";
+        throw InvalidInput(s.str());
+      }
+    }
+    if (F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2)) {
+      std::ostringstream s;
+      s << "face " << f << " repeats a vertex (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2) << ")";
+      throw InvalidInput(s.str());
+    }
+  }
+
+  // Half-edges sorted by undirected key; equal keys are the two sides of one edge.
+  std::vector<std::pair<std::uint64_t, int>> he(3 * static_cast<size_t>(nf));
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const std::uint64_t a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
+      he[3 * f + c] = {std::min(a, b) << 32 | std::max(a, b), 3 * f + c};
+    }
+  }
+  std::sort(he.begin(), he.end());
+  FE_.resize(nf, 3);
+  std::vector<std::array<int, 2>> E, EF;
+  E.reserve(he.size() / 2 + 1);
+  for (size_t k = 0; k < he.size();) {
+    size_t j = k;
+    while (j < he.size() && he[j].first == he[k].first) ++j;
+    const int h0 = he[k].second, f0 = h0 / 3;
+    const int a = F(f0, (h0 % 3 + 1) % 3), b = F(f0, (h0 % 3 + 2) % 3);
+    if (j - k > 2) {
+      std::ostringstream s;
+      s << "edge " << edge_name(a, b) << " is shared by " << (j - k) << " faces (";
+      for (size_t q = k; q < j; ++q) s << (q > k ? ", " : "") << he[q].second / 3;
+      s << "): the mesh is not manifold";
+      throw InvalidInput(s.str());
+    }
+    int f1 = -1;
+    if (j - k == 2) {
+      const int h1 = he[k + 1].second;
+      f1 = h1 / 3;
+      if (F(f1, (h1 % 3 + 1) % 3) == a) {
+        std::ostringstream s;
+        s << "faces " << f0 << " and " << f1 << " traverse edge " << edge_name(a, b)
+          << " in the same direction: face orientation is inconsistent";
+        throw InvalidInput(s.str());
+      }
+    }
+    const int e = static_cast<int>(E.size());
+    E.push_back({std::min(a, b), std::max(a, b)});
+    EF.push_back({f0, f1});
+    for (size_t q = k; q < j; ++q) FE_(he[q].second / 3, he[q].second % 3) = e;
+    k = j;
+  }
+  E_.resize(static_cast<int>(E.size()), 2);
+  EF_.resize(static_cast<int>(E.size()), 2);
+  for (size_t e = 0; e < E.size(); ++e) {
+    E_(e, 0) = E[e][0];
+    E_(e, 1) = E[e][1];
+    EF_(e, 0) = EF[e][0];
+    EF_(e, 1) = EF[e][1];
+  }
+
+  // Boundary half-edges: each boundary vertex must start exactly one (else its faces form several fans).
+  boundary_vertex_.assign(num_vertices, false);
+  std::vector<int> next_on_boundary(num_vertices, -1);
+  for (int e = 0; e < num_edges(); ++e) {
+    if (EF_(e, 1) >= 0) continue;
+    const int f = EF_(e, 0);
+    int c = 0;
+    while (FE_(f, c) != e) ++c;
+    const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);  // boundary walked with the face on the left
+    if (next_on_boundary[a] >= 0) {
+      std::ostringstream s;
+      s << "vertex " << a << " is non-manifold: its faces form more than one fan";
+      throw InvalidInput(s.str());
+    }
+    next_on_boundary[a] = b;
+    boundary_vertex_[a] = boundary_vertex_[b] = true;
+  }
+
+  // Pieces through shared edges.
+  DisjointSets sets(nf);
+  for (int e = 0; e < num_edges(); ++e)
+    if (EF_(e, 1) >= 0) sets.unite(EF_(e, 0), EF_(e, 1));
+  face_piece_.assign(nf, -1);
+  std::vector<int> root_piece(nf, -1);
+  for (int f = 0; f < nf; ++f) {
+    const int r = sets.find(f);
+    if (root_piece[r] < 0) root_piece[r] = num_pieces_++;
+    face_piece_[f] = root_piece[r];
+  }
+  vertex_piece_.assign(num_vertices, -1);
+  for (int f = 0; f < nf; ++f) {
+    for (int c = 0; c < 3; ++c) {
+      int& p = vertex_piece_[F(f, c)];
+      if (p >= 0 && p != face_piece_[f]) {
+        std::ostringstream s;
+        s << "vertex " << F(f, c) << " is shared by pieces that have no edge in common "
+          << "(non-manifold vertex)";
+        throw InvalidInput(s.str());
+      }
+      p = face_piece_[f];
+    }
+  }
+
+  // Interior vertices: the faces around them must form a single closed fan. Count faces per vertex
+  // and compare with the length of the fan walked from one of them.
+  std::vector<int> valence(num_vertices, 0);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) ++valence[F(f, c)];
+  std::vector<int> first_face(num_vertices, -1);
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c)
+      if (first_face[F(f, c)] < 0) first_face[F(f, c)] = f;
+  for (int v = 0; v < num_vertices; ++v) {
+    if (first_face[v] < 0) continue;
+    // Walk counter-clockwise: from face f with corner v, cross the edge opposite corner (c+1).
+    int f = first_face[v], count = 0;
+    int start = f;
+    do {
+      int c = 0;
+      while (F(f, c) != v) ++c;
+      const int e = FE_(f, (c + 2) % 3);  // edge (v, F(f, c+1))
+      const int g = EF_(e, 0) == f ? EF_(e, 1) : EF_(e, 0);
+      ++count;
+      if (g < 0) break;
+      f = g;
+    } while (f != start && count <= valence[v]);
+    if (boundary_vertex_[v]) {
+      // Walk clockwise from the start as well to count the whole open fan.
+      f = start;
+      while (true) {
+        int c = 0;
+        while (F(f, c) != v) ++c;
+        const int e = FE_(f, (c + 1) % 3);  // edge (v, F(f, c+2))
+        const int g = EF_(e, 0) == f ? EF_(e, 1) : EF_(e, 0);
+        if (g < 0 || g == start) break;
+        ++count;
+        f = g;
+      }
+    }
+    if (count != valence[v]) {
+      std::ostringstream s;
+      s << "vertex " << v << " is non-manifold: its " << valence[v]
+        << " faces do not form a single fan";
+      throw InvalidInput(s.str());
+    }
+  }
+
+  // Boundary loops.
+  std::vector<bool> seen(num_vertices, false);
+  for (int v = 0; v < num_vertices; ++v) {
+    if (next_on_boundary[v] < 0 || seen[v]) continue;
+    std::vector<int> loop;
+    for (int w = v; !seen[w]; w = next_on_boundary[w]) {
+      seen[w] = true;
+      loop.push_back(w);
+    }
+    loop_piece_.push_back(vertex_piece_[v]);
+    loops_.push_back(std::move(loop));
+  }
+}
+
+std::vector<Piece> split_into_disks(const Mesh& mesh) {
+  const int np = mesh.num_pieces();
+  std::vector<int> loops_per_piece(np, 0);
+  for (size_t k = 0; k < mesh.boundary_loops().size(); ++k) ++loops_per_piece[mesh.loop_piece(k)];
+  std::vector<std::vector<int>> pf(np), pv(np);
+  for (int f = 0; f < mesh.num_faces(); ++f) pf[mesh.piece_of_face(f)].push_back(f);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.piece_of_vertex(v) >= 0) pv[mesh.piece_of_vertex(v)].push_back(v);
+  for (int p = 0; p < np; ++p) {
+    if (loops_per_piece[p] == 1) continue;
+    std::ostringstream s;
+    s << "piece " << p << " (faces " << pf[p].front() << ".." << pf[p].back() << ", " << pv[p].size()
+      << " vertices) ";
+    if (loops_per_piece[p] == 0) {
+      s << "has no boundary (a closed surface cannot be flattened)";
+    } else {
+      s << "has " << loops_per_piece[p] << " boundary loops: pieces with holes are not supported; "
+        << "loops start at vertices";
+      for (size_t k = 0; k < mesh.boundary_loops().size(); ++k)
+        if (mesh.loop_piece(k) == p) s << " " << mesh.boundary_loops()[k].front();
+    }
+    throw InvalidInput(s.str());
+  }
+  std::vector<int> local(mesh.num_vertices(), -1);
+  std::vector<Piece> pieces;
+  pieces.reserve(np);
+  for (int p = 0; p < np; ++p) {
+    for (size_t i = 0; i < pv[p].size(); ++i) local[pv[p][i]] = static_cast<int>(i);
+    Faces F(static_cast<int>(pf[p].size()), 3);
+    for (size_t k = 0; k < pf[p].size(); ++k)
+      for (int c = 0; c < 3; ++c) F(k, c) = local[mesh.faces()(pf[p][k], c)];
+    pieces.push_back(Piece{Mesh(F, static_cast<int>(pv[p].size())), pv[p], pf[p]});
+  }
+  return pieces;
+}
+
+}  // namespace bdinterp

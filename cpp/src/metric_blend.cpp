@@ -1,0 +1,75 @@
+#include "bdinterp/metric_blend.h"
+
+#include <cmath>
+#include <sstream>
+
+namespace bdinterp {
+
+Eigen::VectorXd squared_edge_lengths(const Mesh& mesh, const Positions& X) {
+  const Edges& E = mesh.edges();
+  Eigen::VectorXd l2(E.rows());
+  for (int e = 0; e < E.rows(); ++e) l2[e] = (X.row(E(e, 1)) - X.row(E(e, 0))).squaredNorm();
+  return l2;
+}
+
+void check_shape(const Mesh& mesh, const Positions& X, const std::string& what) {
+  if (X.rows() != mesh.num_vertices()) {
+    std::ostringstream s;
+    s << what << " has " << X.rows() << " vertices, the faces need " << mesh.num_vertices();
+    throw InvalidInput(s.str());
+  }
+  for (int v = 0; v < X.rows(); ++v) {
+    if (!std::isfinite(X(v, 0)) || !std::isfinite(X(v, 1))) {
+      std::ostringstream s;
+      s << what << ": vertex " << v << " has a non-finite coordinate";
+      throw InvalidInput(s.str());
+    }
+  }
+  const Faces& F = mesh.faces();
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::RowVector2d a = X.row(F(f, 1)) - X.row(F(f, 0)), b = X.row(F(f, 2)) - X.row(F(f, 0));
+    const Eigen::RowVector2d c = b - a;
+    const double area2 = std::abs(a.x() * b.y() - a.y() * b.x());
+    const double longest = std::max({a.squaredNorm(), b.squaredNorm(), c.squaredNorm()});
+    if (!(area2 > 2e-12 * longest)) {
+      std::ostringstream s;
+      s << what << ": face " << f << " (vertices " << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
+        << ") has zero area";
+      throw InvalidInput(s.str());
+    }
+  }
+}
+
+Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>& l2,
+                                      const Eigen::VectorXd& w) {
+  if (l2.empty() || static_cast<Eigen::Index>(l2.size()) != w.size()) {
+    std::ostringstream s;
+    s << "got " << w.size() << " weights for " << l2.size() << " shapes";
+    throw InvalidInput(s.str());
+  }
+  for (Eigen::Index i = 0; i < w.size(); ++i) {
+    if (!std::isfinite(w[i])) {
+      std::ostringstream s;
+      s << "weight " << i << " is not finite";
+      throw InvalidInput(s.str());
+    }
+  }
+  Eigen::VectorXd out = w[0] * l2[0];
+  for (size_t i = 1; i < l2.size(); ++i) out += w[static_cast<Eigen::Index>(i)] * l2[i];
+  const Faces& FE = mesh.face_edges();
+  for (int f = 0; f < FE.rows(); ++f) {
+    const double a = out[FE(f, 0)], b = out[FE(f, 1)], c = out[FE(f, 2)];
+    // Relative threshold: a blend that leaves a face with aspect ratio beyond ~1e6 is unusable.
+    if (!(a > 0 && b > 0 && c > 0) || !(heron16(a, b, c) > 1e-12 * std::max({a, b, c}) * std::max({a, b, c}))) {
+      std::ostringstream s;
+      s << "the weights (";
+      for (Eigen::Index i = 0; i < w.size(); ++i) s << (i ? ", " : "") << w[i];
+      s << ") give an invalid metric at face " << f
+        << ": its blended edge lengths violate the triangle inequality (extrapolating too far)";
+      throw InvalidInput(s.str());
+    }
+  }
+  return out;
+}
+
+}  // namespace bdinterp

@@ -1,0 +1,109 @@
+#include "bdinterp/sparse_cholesky.h"
+
+#include <cholmod.h>
+
+#include <algorithm>
+#include <cstring>
+#include <string>
+
+namespace bdinterp {
+
+struct SparseCholesky::Impl {
+  cholmod_common common{};
+  cholmod_sparse* A = nullptr;
+  cholmod_factor* L = nullptr;
+  cholmod_dense* B = nullptr;
+  cholmod_dense* X = nullptr;
+  cholmod_dense* Y = nullptr;  // workspaces of cholmod_solve2, kept so solves do not allocate
+  cholmod_dense* E = nullptr;
+  int ncols = 0;
+  bool factored = false;
+
+  Impl() { cholmod_start(&common); }
+  ~Impl() {
+    cholmod_free_dense(&B, &common);
+    cholmod_free_dense(&X, &common);
+    cholmod_free_dense(&Y, &common);
+    cholmod_free_dense(&E, &common);
+    cholmod_free_factor(&L, &common);
+    cholmod_free_sparse(&A, &common);
+    cholmod_finish(&common);
+  }
+  void check(const char* what) const {
+    if (common.status < CHOLMOD_OK) {
+      throw SolverError(std::string("CHOLMOD ") + what + " failed (status " +
+                        std::to_string(common.status) + ")");
+    }
+  }
+  void ensure_rhs(int n, int k) {
+    if (B && ncols == k) return;
+    cholmod_free_dense(&B, &common);
+    B = cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &common);
+    check("allocate");
+    ncols = k;
+  }
+};
+
+SparseCholesky::SparseCholesky(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+SparseCholesky::SparseCholesky(int n, const std::vector<int>& col_ptr,
+                               const std::vector<int>& row_idx)
+    : impl_(std::make_unique<Impl>()) {
+  if (n <= 0 || static_cast<int>(col_ptr.size()) != n + 1 ||
+      col_ptr.back() != static_cast<int>(row_idx.size())) {
+    throw InvalidInput("SparseCholesky: inconsistent compressed-column pattern");
+  }
+  Impl& m = *impl_;
+  m.A = cholmod_allocate_sparse(n, n, row_idx.size(), /*sorted=*/1, /*packed=*/1, /*stype=*/-1,
+                                CHOLMOD_REAL, &m.common);
+  m.check("allocate");
+  std::copy(col_ptr.begin(), col_ptr.end(), static_cast<int*>(m.A->p));
+  std::copy(row_idx.begin(), row_idx.end(), static_cast<int*>(m.A->i));
+  std::fill_n(static_cast<double*>(m.A->x), row_idx.size(), 0.0);
+  m.L = cholmod_analyze(m.A, &m.common);
+  m.check("analyze");
+}
+
+SparseCholesky::~SparseCholesky() = default;
+SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
+SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
+
+SparseCholesky SparseCholesky::clone() const {
+  auto copy = std::make_unique<Impl>();
+  copy->common.supernodal = impl_->common.supernodal;
+  copy->A = cholmod_copy_sparse(impl_->A, &copy->common);
+  copy->check("copy");
+  copy->L = cholmod_copy_factor(impl_->L, &copy->common);
+  copy->check("copy");
+  copy->factored = impl_->factored;
+  return SparseCholesky(std::move(copy));
+}
+
+int SparseCholesky::size() const { return static_cast<int>(impl_->A->nrow); }
+
+double* SparseCholesky::values() { return static_cast<double*>(impl_->A->x); }
+
+void SparseCholesky::factorize() {
+  Impl& m = *impl_;
+  m.factored = false;
+  cholmod_factorize(m.A, m.L, &m.common);
+  if (m.common.status == CHOLMOD_NOT_POSDEF) {
+    throw SolverError("matrix is not positive definite (CHOLMOD stopped at column " +
+                      std::to_string(m.L->minor) + ")");
+  }
+  m.check("factorize");
+  m.factored = true;
+}
+
+void SparseCholesky::solve(const double* b, double* x, int ncols) {
+  Impl& m = *impl_;
+  if (!m.factored) throw SolverError("SparseCholesky::solve called without a valid factorisation");
+  const int n = size();
+  m.ensure_rhs(n, ncols);
+  std::memcpy(m.B->x, b, sizeof(double) * n * ncols);
+  cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common);
+  m.check("solve");
+  std::memcpy(x, m.X->x, sizeof(double) * n * ncols);
+}
+
+}  // namespace bdinterp
