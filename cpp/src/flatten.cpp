@@ -1,5 +1,6 @@
 #include "bdinterp/flatten.h"
 
+#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -11,6 +12,7 @@ namespace bdinterp {
 namespace {
 constexpr double kTwoPi = 6.28318530717958647692;
 constexpr double kHalfPi = 1.57079632679489661923;
+constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
 }  // namespace
 
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
@@ -72,8 +74,59 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
   copy->grad_.resize(num_interior_);
   copy->scaled_l2_.resize(scaled_l2_.size());
+  copy->factor_reusable_ = factor_reusable_ && chol_;
+  copy->factor_seconds_ = factor_seconds_;
+  copy->chord_seconds_ = chord_seconds_;
+  copy->newton_c_ = newton_c_;
   return copy;
 }
+
+namespace {
+
+// Angles (and optionally cotangents) of a triangle from its squared edge lengths, with the CETM
+// convention of triangle.h for broken triples. Two atan2 per face: the largest angle (opposite the
+// longest edge) is pi minus the other two, which costs at most a few ulps of pi in absolute terms.
+inline bool face_angles(const double l2[3], double angle[3], double* cot) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  const double x[3] = {l[1] + l[2] - l[0], l[0] + l[2] - l[1], l[0] + l[1] - l[2]};
+  const int longest = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
+  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
+    for (int k = 0; k < 3; ++k) angle[k] = k == longest ? kPi : 0.0;
+    if (cot) cot[0] = cot[1] = cot[2] = 0.0;
+    return true;
+  }
+  const double s = l[0] + l[1] + l[2];
+  const int i = (longest + 1) % 3, j = (longest + 2) % 3;
+  // Half-angle formula: accurate for needle and cap triangles alike.
+  angle[i] = 2 * std::atan2(std::sqrt(x[j] * x[longest]), std::sqrt(s * x[i]));
+  angle[j] = 2 * std::atan2(std::sqrt(x[i] * x[longest]), std::sqrt(s * x[j]));
+  angle[longest] = kPi - angle[i] - angle[j];
+  if (cot) {
+    const double inv = 1.0 / std::sqrt(s * x[0] * x[1] * x[2]);  // 1 / (4 area)
+    cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
+    cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
+    cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
+  }
+  return false;
+}
+
+// Cotangents only (no angles), 0 for broken triangles.
+inline bool face_cotangents(const double l2[3], double cot[3]) {
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  const double x0 = l[1] + l[2] - l[0], x1 = l[0] + l[2] - l[1], x2 = l[0] + l[1] - l[2];
+  if (!(x0 > 0 && x1 > 0 && x2 > 0)) {
+    cot[0] = cot[1] = cot[2] = 0.0;
+    return true;
+  }
+  const double inv = 1.0 / std::sqrt((l[0] + l[1] + l[2]) * x0 * x1 * x2);
+  cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
+  cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
+  cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
+  return false;
+}
+
+}  // namespace
 
 Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
                                     bool want_energy, bool want_hessian) const {
@@ -81,29 +134,34 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
   const Faces& F = m.faces();
   const Faces& FE = m.face_edges();
   const Edges& E = m.edges();
-  for (int e = 0; e < E.rows(); ++e) scaled_l2_[e] = l2[e] * std::exp(u[E(e, 0)] + u[E(e, 1)]);
+  // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
+  exp_u_.resize(u.size());
+  for (Eigen::Index v = 0; v < u.size(); ++v) exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]);
+  scaled_l2_.resize(E.rows());
+  for (int e = 0; e < E.rows(); ++e) scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
   Eval ev;
   grad_.setConstant(kTwoPi);
   double* H = want_hessian ? chol_->values() : nullptr;
   if (H) std::fill_n(H, nnz_, 0.0);
   double energy = 0;
+  double angle[3], cot[3];
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
-    const TriangleAngles t = triangle_angles(fl2);
-    ev.broken += t.broken;
+    const bool broken = face_angles(fl2, angle, H ? cot : nullptr);
+    ev.broken += broken;
     for (int c = 0; c < 3; ++c) {
       const int vi = interior_index_[F(f, c)];
-      if (vi >= 0) grad_[vi] -= t.angle[c];
+      if (vi >= 0) grad_[vi] -= angle[c];
     }
     if (want_energy) {
       for (int c = 0; c < 3; ++c) {
         const double lambda = std::log(fl2[c]);
-        energy += t.angle[c] * lambda + 2 * lobachevsky(t.angle[c]) - kHalfPi * lambda;
+        energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - kHalfPi * lambda;
       }
     }
-    if (H && !t.broken) {
+    if (H && !broken) {
       for (int c = 0; c < 3; ++c) {
-        const double w = 0.5 * t.cot[c];
+        const double w = 0.5 * cot[c];
         const int a = interior_index_[F(f, (c + 1) % 3)], b = interior_index_[F(f, (c + 2) % 3)];
         if (a >= 0) H[diag_pos_[a]] += w;
         if (b >= 0) H[diag_pos_[b]] += w;
@@ -118,6 +176,32 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
   ev.energy = energy;
   ev.residual = num_interior_ ? grad_.cwiseAbs().maxCoeff() : 0.0;
   return ev;
+}
+
+void Flattener::assemble_from_scaled() const {
+  const Faces& F = mesh_->faces();
+  const Faces& FE = mesh_->face_edges();
+  double* H = chol_->values();
+  std::fill_n(H, nnz_, 0.0);
+  double cot[3];
+  for (int f = 0; f < F.rows(); ++f) {
+    const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
+    if (face_cotangents(fl2, cot)) continue;
+    for (int c = 0; c < 3; ++c) {
+      const double w = 0.5 * cot[c];
+      const int a = interior_index_[F(f, (c + 1) % 3)], b = interior_index_[F(f, (c + 2) % 3)];
+      if (a >= 0) H[diag_pos_[a]] += w;
+      if (b >= 0) H[diag_pos_[b]] += w;
+      const int p = edge_pos_[FE(f, c)];
+      if (p >= 0) H[p] -= w;
+    }
+  }
+}
+
+void Flattener::assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
+  factor_reusable_ = false;
+  if (num_interior_ == 0) return;
+  evaluate(l2, u, false, true);
 }
 
 double Flattener::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
@@ -166,8 +250,55 @@ Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
   return Hm;
 }
 
+void Flattener::factorize_with_shift() {
+  // The Hessian is positive definite unless faces degenerate to (pi, 0, 0) around a vertex; then a
+  // small diagonal shift keeps the step a descent direction.
+  double shift = 0;
+  for (int attempt = 0;; ++attempt) {
+    try {
+      chol_->factorize();
+      return;
+    } catch (const SolverError&) {
+      if (attempt == 3) throw;
+      double* H = chol_->values();
+      double dmax = 0;
+      for (int p : diag_pos_) dmax = std::max(dmax, std::abs(H[p]));
+      const double add = (shift == 0 ? 1e-10 : 99 * shift) * std::max(dmax, 1.0);
+      for (int p : diag_pos_) H[p] += add;
+      shift += add;
+    }
+  }
+}
+
+namespace {
+
+// Expected cost of reaching `tol` from residual r with chord steps contracting by `rate` each.
+double chord_cost(double r, double tol, double rate, double step_seconds) {
+  if (rate >= 0.5) return std::numeric_limits<double>::infinity();
+  return std::ceil(std::log(tol / r) / std::log(rate)) * step_seconds;
+}
+
+// Expected cost with Newton steps r <- c r^2 (a fresh factorisation each), the last Newton step
+// possibly replaced by chord steps with the factor it leaves (contraction about c r).
+double newton_cost(double r, double tol, double c, double newton_seconds, double step_seconds) {
+  double cost = 0;
+  for (int k = 0; k < 8 && r > tol; ++k) {
+    const double next = std::min(c * r * r, 0.5 * r);
+    cost += newton_seconds;
+    if (next <= tol) return cost;
+    const double rate = std::min(c * r, 0.5);
+    const double chord = chord_cost(next, tol, rate, step_seconds);
+    if (chord < newton_seconds) return cost + chord;
+    r = next;
+  }
+  return cost;
+}
+
+}  // namespace
+
 FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
                                const FlattenOptions& options) {
+  using Clock = std::chrono::steady_clock;
   const Mesh& m = *mesh_;
   if (l2.size() != m.num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != m.num_vertices()) u = Eigen::VectorXd::Zero(m.num_vertices());
@@ -175,72 +306,108 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     if (interior_index_[v] < 0 || !std::isfinite(u[v])) u[v] = 0.0;
 
   FlattenReport rep;
-  Eval cur = evaluate(l2, u, false, true);
+  Eval cur = evaluate(l2, u, false, false);  // scaled_l2_ and grad_ now describe u
   rep.max_broken_triangles = cur.broken;
   double cur_energy = std::numeric_limits<double>::quiet_NaN();
-  Eigen::VectorXd step(num_interior_), g(num_interior_), trial = u;
+  step_.resize(num_interior_);
+  trial_ = u;
+  // Chord steps are tried first when an earlier factorisation is available (the previous frame's).
+  bool try_chord = options.reuse_factorization && factor_reusable_ && num_interior_ > 0;
+  bool grad_at_u = true;  // grad_ and scaled_l2_ describe u (else they describe a rejected trial)
+  auto fail = [&](const char* what) {
+    std::ostringstream s;
+    s << what << " (residual " << cur.residual << " > tolerance " << options.tolerance << ")";
+    throw SolverError(s.str());
+  };
   while (cur.residual > options.tolerance) {
     if (rep.iterations >= options.max_iterations) {
       std::ostringstream s;
-      s << "flattening did not converge in " << options.max_iterations
-        << " Newton steps (residual " << cur.residual << " > tolerance " << options.tolerance << ")";
-      throw SolverError(s.str());
+      s << "flattening did not converge in " << options.max_iterations << " Newton steps";
+      fail(s.str().c_str());
     }
     ++rep.iterations;
-    g = grad_;
-    // The Hessian is positive definite unless faces degenerate to (pi, 0, 0) around a vertex; then a
-    // small diagonal shift keeps the step a descent direction.
-    double shift = 0;
-    for (int attempt = 0;; ++attempt) {
-      try {
-        chol_->factorize();
-        break;
-      } catch (const SolverError&) {
-        if (attempt == 3) throw;
-        double* H = chol_->values();
-        double dmax = 0;
-        for (int p : diag_pos_) dmax = std::max(dmax, std::abs(H[p]));
-        const double add = (shift == 0 ? 1e-10 : 99 * shift) * std::max(dmax, 1.0);
-        for (int p : diag_pos_) H[p] += add;
-        shift += add;
+    if (try_chord) {
+      const auto t0 = Clock::now();
+      for (int i = 0; i < num_interior_; ++i) step_[i] = -grad_[i];
+      chol_->solve(step_.data(), step_.data());
+      for (int i = 0; i < num_interior_; ++i) {
+        const int v = interior_vertex_[i];
+        trial_[v] = u[v] + step_[i];
       }
+      const Eval next = evaluate(l2, trial_, false, false);
+      chord_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+      if (std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual) {
+        const double rate = next.residual / cur.residual;
+        u.swap(trial_);
+        cur = next;
+        cur_energy = std::numeric_limits<double>::quiet_NaN();
+        ++rep.chord_steps;
+        rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
+        // Keep chording while that is expected to be cheaper than a fresh Newton step.
+        const double newton_s = factor_seconds_ + chord_seconds_;
+        try_chord = chord_cost(cur.residual, options.tolerance, rate, chord_seconds_) <=
+                    newton_cost(cur.residual, options.tolerance, newton_c_, newton_s, chord_seconds_);
+        continue;
+      }
+      try_chord = false;
+      grad_at_u = false;
     }
-    step = -g;
-    chol_->solve(step.data(), step.data());
-    const double slope = g.dot(step);  // < 0
+    // A Newton step with a fresh factorisation at u.
+    if (grad_at_u) {
+      assemble_from_scaled();
+    } else {
+      evaluate(l2, u, false, true);
+      grad_at_u = true;
+    }
+    const auto t0 = Clock::now();
+    factorize_with_shift();
+    factor_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+    factor_reusable_ = true;
+    ++rep.factorizations;
+    for (int i = 0; i < num_interior_; ++i) step_[i] = -grad_[i];
+    chol_->solve(step_.data(), step_.data());
+    double slope = 0;  // < 0
+    for (int i = 0; i < num_interior_; ++i) slope -= grad_[i] * step_[i];
     double s = 1.0;
-    bool energy_known = false;
+    Eval next;
     for (;;) {
-      trial = u;
-      for (int i = 0; i < num_interior_; ++i) trial[interior_vertex_[i]] += s * step[i];
+      for (int i = 0; i < num_interior_; ++i) {
+        const int v = interior_vertex_[i];
+        trial_[v] = u[v] + s * step_[i];
+      }
       // Full steps that halve the residual are accepted without the energy (quadratic phase).
-      Eval next = evaluate(l2, trial, false, false);
+      next = evaluate(l2, trial_, false, false);
       bool accept = std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual;
-      energy_known = false;
+      bool energy_known = false;
       if (!accept && std::isfinite(next.residual)) {
         if (std::isnan(cur_energy)) cur_energy = evaluate(l2, u, true, false).energy;
-        next = evaluate(l2, trial, true, false);
+        next = evaluate(l2, trial_, true, false);
         const double roundoff = 1e-13 * (std::abs(cur_energy) + 1.0);
         accept = next.energy <= cur_energy + 1e-4 * s * slope ||
                  (std::abs(slope) * s < roundoff && next.residual < cur.residual);
-        if (accept) {
-          cur_energy = next.energy;
-          energy_known = true;
-        }
+        energy_known = accept;
       }
-      if (accept) break;
+      if (accept) {
+        cur_energy = energy_known ? next.energy : std::numeric_limits<double>::quiet_NaN();
+        break;
+      }
       s *= 0.5;
       ++rep.line_search_steps;
-      if (s < 1e-12) {
-        std::ostringstream e;
-        e << "flattening line search failed (residual " << cur.residual << ")";
-        throw SolverError(e.str());
-      }
+      if (s < 1e-12) fail("flattening line search failed");
     }
-    if (!energy_known) cur_energy = std::numeric_limits<double>::quiet_NaN();
-    u.swap(trial);
-    cur = evaluate(l2, u, false, true);
+    // The last evaluate was at the accepted trial: grad_ and scaled_l2_ describe the new u.
+    if (s == 1.0 && cur.residual > 0) newton_c_ = next.residual / (cur.residual * cur.residual);
+    const double newton_rate = next.residual / cur.residual;
+    u.swap(trial_);
+    cur = next;
     rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
+    // Chord steps with this factor contract about as much as this Newton step did.
+    if (options.reuse_factorization && s == 1.0 && cur.residual > options.tolerance) {
+      const double step_s = chord_seconds_ > 0 ? chord_seconds_ : 0.3 * factor_seconds_;
+      const double newton_s = factor_seconds_ + step_s;
+      try_chord = chord_cost(cur.residual, options.tolerance, newton_rate, step_s) <=
+                  newton_cost(cur.residual, options.tolerance, newton_c_, newton_s, step_s);
+    }
   }
   rep.residual = cur.residual;
   rep.broken_triangles = cur.broken;

@@ -1,15 +1,95 @@
 #include "bdinterp/interpolator.h"
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <deque>
+#include <exception>
 #include <sstream>
+#include <thread>
 
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 
 namespace bdinterp {
 
+namespace {
+
+// Solved frames of one piece, for warm starts: the last few (weights, u) pairs, newest first.
+struct History {
+  static constexpr size_t kSize = 4;
+  std::deque<std::pair<Eigen::VectorXd, Eigen::VectorXd>> solved;
+
+  void add(const Eigen::VectorXd& w, const Eigen::VectorXd& u) {
+    if (solved.size() == kSize) {
+      solved.back().first = w;  // reuse the oldest entry's storage
+      solved.back().second = u;
+      solved.push_front(std::move(solved.back()));
+      solved.pop_back();
+    } else {
+      solved.emplace_front(w, u);
+    }
+  }
+
+  // Initial guess for weights w: polynomial extrapolation (degree <= 3) along the line through the
+  // nearest solved frame and w, over the solved frames that lie on that line, as long as the
+  // extrapolation is well conditioned (sum of |Lagrange weights| <= 20); else the nearest solution;
+  // zero (exact at the inputs) without history.
+  void predict(const Eigen::VectorXd& w, Eigen::VectorXd& u) const {
+    if (solved.empty()) {
+      u.setZero();
+      return;
+    }
+    size_t nearest = 0;
+    for (size_t k = 1; k < solved.size(); ++k)
+      if ((solved[k].first - w).squaredNorm() < (solved[nearest].first - w).squaredNorm()) nearest = k;
+    const Eigen::VectorXd& w0 = solved[nearest].first;
+    const Eigen::VectorXd d = w - w0;
+    const double dd = d.squaredNorm();
+    u = solved[nearest].second;
+    if (dd == 0) return;
+    // Parameter s along w0 + s d (w at s = 1) of every solved frame on that line.
+    std::vector<std::pair<double, size_t>> nodes{{0.0, nearest}};
+    for (size_t k = 0; k < solved.size(); ++k) {
+      if (k == nearest) continue;
+      const Eigen::VectorXd q = solved[k].first - w0;
+      const double sk = q.dot(d) / dd;
+      if ((q - sk * d).norm() <= 1e-12 * (1.0 + w0.norm()) && std::abs(sk) > 1e-12) nodes.push_back({sk, k});
+    }
+    std::sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
+      return std::abs(1.0 - a.first) < std::abs(1.0 - b.first);
+    });
+    for (size_t m = std::min<size_t>(nodes.size(), 4); m >= 2; --m) {
+      double L[4], total = 0;
+      for (size_t i = 0; i < m; ++i) {
+        L[i] = 1.0;
+        for (size_t j = 0; j < m; ++j)
+          if (j != i) L[i] *= (1.0 - nodes[j].first) / (nodes[i].first - nodes[j].first);
+        total += std::abs(L[i]);
+      }
+      if (!(total <= 20.0)) continue;
+      u = L[0] * solved[nodes[0].second].second;
+      for (size_t i = 1; i < m; ++i) u += L[i] * solved[nodes[i].second].second;
+      return;
+    }
+  }
+};
+
+}  // namespace
+
 // Everything about one disk-shaped piece of the mesh.
 struct Interpolator::PieceSolver {
+  // What one thread needs to solve frames of this piece: solvers with their own CHOLMOD workspaces
+  // and the warm-start history.
+  struct Workspace {
+    Flattener* flattener;
+    Layout* layout;
+    std::unique_ptr<Flattener> own_flattener;
+    std::unique_ptr<Layout> own_layout;
+    History history;
+    Eigen::VectorXd u, l2w;
+  };
+
   Piece piece;
   std::vector<Eigen::VectorXd> l2;  // per input shape: squared edge lengths
   Flattener flattener;
@@ -17,8 +97,7 @@ struct Interpolator::PieceSolver {
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
-  // Warm start: the last two solutions and their weights.
-  Eigen::VectorXd u, u_last, u_prev, w_last, w_prev;
+  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}};
 
   PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
       : piece(std::move(p)),
@@ -37,38 +116,33 @@ struct Interpolator::PieceSolver {
       area += a.x() * b.y() - a.y() * b.x();
     }
     mirrored = area < 0;
+    main.u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
   }
 
-  // Picks the initial guess with the smallest residual among: zero (exact at the inputs), the last
-  // solution, and its linear extrapolation along the last two solves.
-  void warm_start(const Eigen::VectorXd& l2w, const Eigen::VectorXd& w) {
-    u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
-    if (u_last.size() == 0) return;
-    double best = flattener.residual(l2w, u);
-    auto consider = [&](const Eigen::VectorXd& cand) {
-      const double r = flattener.residual(l2w, cand);
-      if (r < best) {
-        best = r;
-        u = cand;
-      }
-    };
-    consider(u_last);
-    if (u_prev.size() && (w_last - w_prev).squaredNorm() > 0) {
-      const double a = (w - w_last).dot(w_last - w_prev) / (w_last - w_prev).squaredNorm();
-      consider(u_last + a * (u_last - u_prev));
-    }
+  // A workspace for another thread, starting from this one's history and reusable factorisation.
+  std::unique_ptr<Workspace> clone_workspace() const {
+    auto ws = std::make_unique<Workspace>();
+    ws->own_flattener = main.flattener->clone();
+    ws->own_layout = main.layout->clone();
+    ws->flattener = ws->own_flattener.get();
+    ws->layout = ws->own_layout.get();
+    ws->history = main.history;
+    ws->u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
+    return ws;
   }
 
-  FlattenReport solve(const Eigen::VectorXd& w, const FlattenOptions& opt, const Anchor& anchor_mode,
-                      Eigen::Ref<Positions> out, double* flatness) {
-    const Eigen::VectorXd l2w = blend_squared_lengths(piece.mesh, l2, w);
-    warm_start(l2w, w);
-    const FlattenReport rep = flattener.solve(l2w, u, opt);
-    u_prev.swap(u_last);
-    w_prev.swap(w_last);
-    u_last = u;
-    w_last = w;
-    Positions X = layout.embed(scale_lengths(piece.mesh, l2w, u), flatness);
+  void forget() {
+    main.history.solved.clear();
+    main.flattener->forget();
+  }
+
+  FlattenReport solve(Workspace& ws, const Eigen::VectorXd& w, const FlattenOptions& opt,
+                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) const {
+    ws.l2w = blend_squared_lengths(piece.mesh, l2, w);
+    ws.history.predict(w, ws.u);
+    const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
+    ws.history.add(w, ws.u);
+    Positions X = ws.layout->embed(scale_lengths(piece.mesh, ws.l2w, ws.u), flatness);
     if (mirrored) X.col(0) *= -1.0;
     anchor.place(X, blend_frames(frames, w, anchor_mode));
     for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);

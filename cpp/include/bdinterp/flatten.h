@@ -19,6 +19,10 @@ namespace bdinterp {
 struct FlattenOptions {
   double tolerance = 1e-10;  // stop when max |2pi - angle sum| over interior vertices <= tolerance
   int max_iterations = 50;   // Newton steps before giving up with SolverError
+  // Allow chord steps: Newton steps with the factorisation of an earlier iterate (of this solve or of
+  // the previous solve on this Flattener) instead of a new one, while they contract fast enough.
+  // Every step, chord or not, is accepted only if it reduces the residual; the tolerance is the same.
+  bool reuse_factorization = true;
 };
 
 struct FlattenReport {
@@ -27,6 +31,8 @@ struct FlattenReport {
   int broken_triangles = 0;      // faces violating the triangle inequality in the final metric
   int max_broken_triangles = 0;  // the most seen at any Newton iterate
   int line_search_steps = 0;     // step halvings over all iterations
+  int factorizations = 0;        // numeric factorisations (Newton steps with a fresh Hessian)
+  int chord_steps = 0;           // steps that reused an earlier factorisation (also in iterations)
 };
 
 class Flattener {
@@ -54,6 +60,12 @@ class Flattener {
   // max |2pi - angle sum| over interior vertices.
   double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
   int num_interior() const { return num_interior_; }
+  // Benchmarks: loads the Hessian at (l2, u) into the solver (no factorisation) and gives access to
+  // it; the next solve() will not reuse the factorisation that was there.
+  void assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+  SparseCholesky* cholesky() { factor_reusable_ = false; return chol_.get(); }
+  // Forgets the reusable factorisation, so the next solve starts with a fresh Newton step.
+  void forget() { factor_reusable_ = false; }
   bool is_interior(int v) const { return interior_index_[v] >= 0; }
 
  private:
@@ -66,6 +78,9 @@ class Flattener {
   // the Hessian values into the CHOLMOD matrix.
   Eval evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
                 bool want_hessian) const;
+  // The Hessian values at the scaled lengths left in scaled_l2_ by the last evaluate (no angles).
+  void assemble_from_scaled() const;
+  void factorize_with_shift();
 
   explicit Flattener(const Mesh* mesh) : mesh_(mesh) {}
 
@@ -79,6 +94,12 @@ class Flattener {
   std::unique_ptr<SparseCholesky> chol_;
   mutable Eigen::VectorXd grad_;      // #interior, scratch
   mutable Eigen::VectorXd scaled_l2_; // #E, scratch
+  mutable Eigen::VectorXd exp_u_;     // #V, scratch
+  bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
+  double factor_seconds_ = 0;         // measured cost of a factorisation and of a chord step
+  double chord_seconds_ = 0;
+  double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
+  Eigen::VectorXd step_, trial_;      // scratch
 };
 
 // One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.

@@ -23,6 +23,9 @@ struct FrameStats {
   int max_broken_triangles = 0;  // the most seen during Newton
   double flatness = 0;           // layout residual, see Layout::embed
   int pieces = 0;
+  int factorizations = 0;        // numeric Cholesky factorisations (summed over pieces)
+  int chord_steps = 0;           // Newton steps that reused an earlier factorisation (summed)
+  double seconds = 0;            // wall-clock time of the frame in C++
 };
 
 class Interpolator {
@@ -50,6 +53,18 @@ class Interpolator {
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
 
   const FrameStats& last_stats() const { return stats_; }
+
+  // Drops every cached solution (warm-start history, reusable factorisations): the next frame is
+  // computed cold, from nothing but the symbolic analysis. For benchmarks and reproducibility.
+  void forget();
+  // Benchmark floor: median wall-clock seconds (over `repeats`) of one numeric factorisation plus one
+  // solve of the interior cotan Laplacian of the base shape, summed over pieces (symbolic analysis
+  // reused). Leaves the warm-start history untouched but invalidates reusable factorisations.
+  double floor_seconds(int repeats = 5);
+  // Worker threads used by frames() (default: std::thread::hardware_concurrency(), at most 2 per
+  // ... see frames). 1 = sequential.
+  void set_threads(int n) { threads_ = n; }
+  int threads() const { return threads_; }
   const Faces& faces() const { return F_; }
 
  private:
@@ -63,6 +78,7 @@ class Interpolator {
   std::vector<std::unique_ptr<PieceSolver>> pieces_;
   std::vector<int> isolated_;
   FrameStats stats_;
+  int threads_ = 0;  // 0: hardware concurrency
 };
 
 // One-off: interpolate between two shapes at t (builds and discards an Interpolator).

@@ -1,0 +1,131 @@
+#include <gtest/gtest.h>
+
+#include <Eigen/Dense>
+#include <random>
+
+#include "bdinterp/flatten.h"
+#include "bdinterp/metric_blend.h"
+#include "test_meshes.h"
+
+namespace bdinterp {
+namespace {
+
+// A curved metric: half way between a jittered grid and its bend by 120 degrees.
+struct CurvedMetric : ::testing::Test {
+  testing::TestMesh m = testing::jittered_grid(12, 6, 1.0, 0.3);
+  Mesh mesh{m.F, static_cast<int>(m.V.rows())};
+  Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 2.1, 0.15); });
+  Eigen::VectorXd l2 = blend_squared_lengths(
+      mesh, {squared_edge_lengths(mesh, m.V), squared_edge_lengths(mesh, bent)},
+      Eigen::Vector2d(0.5, 0.5));
+
+  Eigen::VectorXd random_u(double scale, unsigned seed) const {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<double> d(-scale, scale);
+    Eigen::VectorXd u(mesh.num_vertices());
+    for (int v = 0; v < u.size(); ++v) u[v] = mesh.is_boundary_vertex(v) ? 0.0 : d(rng);
+    return u;
+  }
+};
+
+TEST_F(CurvedMetric, GradientMatchesFiniteDifferencesOfEnergy) {
+  Flattener fl(mesh);
+  const Eigen::VectorXd u = random_u(0.05, 3);
+  const Eigen::VectorXd g = fl.gradient(l2, u);
+  // E is a sum of O(1) terms over all faces: a larger step keeps roundoff (eps |E| / h) small.
+  const double h = 1e-4;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!fl.is_interior(v)) continue;
+    Eigen::VectorXd up = u, um = u;
+    up[v] += h;
+    um[v] -= h;
+    const double fd = (fl.energy(l2, up) - fl.energy(l2, um)) / (2 * h);
+    EXPECT_NEAR(fd, g[v], 1e-7) << "vertex " << v;
+  }
+}
+
+TEST_F(CurvedMetric, HessianMatchesFiniteDifferencesOfGradient) {
+  Flattener fl(mesh);
+  const Eigen::VectorXd u = random_u(0.05, 4);
+  const Eigen::MatrixXd H = Eigen::MatrixXd(fl.hessian(l2, u));
+  const double h = 1e-6;
+  double worst = 0;
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (!fl.is_interior(v)) continue;
+    Eigen::VectorXd up = u, um = u;
+    up[v] += h;
+    um[v] -= h;
+    const Eigen::VectorXd col = (fl.gradient(l2, up) - fl.gradient(l2, um)) / (2 * h);
+    for (int w = 0; w < mesh.num_vertices(); ++w)
+      if (fl.is_interior(w)) worst = std::max(worst, std::abs(col[w] - H(w, v)));
+  }
+  EXPECT_LT(worst, 1e-7);
+  // The Hessian restricted to interior vertices is symmetric positive definite.
+  std::vector<int> in;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (fl.is_interior(v)) in.push_back(v);
+  Eigen::MatrixXd Hi(in.size(), in.size());
+  for (size_t a = 0; a < in.size(); ++a)
+    for (size_t b = 0; b < in.size(); ++b) Hi(a, b) = H(in[a], in[b]);
+  EXPECT_LT((Hi - Hi.transpose()).norm(), 1e-12);
+  EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(Hi).eigenvalues().minCoeff(), 0.0);
+}
+
+TEST_F(CurvedMetric, NewtonReachesTolInAFewSteps) {
+  Flattener fl(mesh);
+  Eigen::VectorXd u;
+  const FlattenReport r = fl.solve(l2, u);
+  EXPECT_LE(r.residual, 1e-10);
+  EXPECT_LE(r.iterations, 6);
+  EXPECT_GE(r.iterations, 1);  // the blended metric is curved: there was work to do
+  EXPECT_EQ(r.broken_triangles, 0);
+  EXPECT_LE(fl.residual(l2, u), 1e-10);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (mesh.is_boundary_vertex(v)) EXPECT_EQ(u[v], 0.0);
+}
+
+TEST_F(CurvedMetric, ScaleInvariant) {
+  Flattener fl(mesh);
+  Eigen::VectorXd u1, u2;
+  fl.solve(l2, u1);
+  fl.solve(1e6 * l2, u2);
+  EXPECT_LT((u1 - u2).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_F(CurvedMetric, FlatMetricNeedsNoStep) {
+  Flattener fl(mesh);
+  Eigen::VectorXd u;
+  const FlattenReport r = fl.solve(squared_edge_lengths(mesh, m.V), u);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(u.cwiseAbs().maxCoeff(), 0.0);
+}
+
+TEST_F(CurvedMetric, BrokenTrianglesDuringNewtonStayFiniteAndConverge) {
+  Flattener fl(mesh);
+  Eigen::VectorXd reference;
+  fl.solve(l2, reference);
+  // A wild start: many triangles violate the triangle inequality at first.
+  Eigen::VectorXd u = random_u(3.0, 5);
+  EXPECT_TRUE(std::isfinite(fl.energy(l2, u)));
+  EXPECT_TRUE(fl.gradient(l2, u).allFinite());
+  FlattenOptions opt;
+  opt.max_iterations = 200;
+  const FlattenReport r = fl.solve(l2, u, opt);
+  EXPECT_GT(r.max_broken_triangles, 0);
+  EXPECT_EQ(r.broken_triangles, 0);
+  EXPECT_LE(r.residual, 1e-10);
+  // Strict convexity where no triangle is broken: the same solution.
+  EXPECT_LT((u - reference).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST_F(CurvedMetric, NonConvergenceIsASolverError) {
+  Flattener fl(mesh);
+  Eigen::VectorXd u;
+  FlattenOptions opt;
+  opt.max_iterations = 1;
+  opt.tolerance = 1e-15;
+  EXPECT_THROW(fl.solve(l2, u, opt), SolverError);
+}
+
+}  // namespace
+}  // namespace bdinterp
