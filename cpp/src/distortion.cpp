@@ -10,7 +10,8 @@ namespace {
 
 // Calls fn(f, J) with the 2x2 Jacobian of every face after validating the arrays.
 template <typename Fn>
-void for_each_jacobian(const Positions& X0, const Positions& X1, const Faces& F, Fn fn) {
+void for_each_jacobian(const Eigen::Ref<const Positions>& X0, const Eigen::Ref<const Positions>& X1,
+                       const Eigen::Ref<const Faces>& F, Fn fn) {
   if (X0.rows() != X1.rows()) {
     std::ostringstream s;
     s << "source has " << X0.rows() << " vertices, result has " << X1.rows();
@@ -41,7 +42,9 @@ void for_each_jacobian(const Positions& X0, const Positions& X1, const Faces& F,
 
 }  // namespace
 
-Eigen::VectorXd conformal_distortion(const Positions& source, const Positions& result, const Faces& F) {
+Eigen::VectorXd conformal_distortion(const Eigen::Ref<const Positions>& source,
+                                     const Eigen::Ref<const Positions>& result,
+                                     const Eigen::Ref<const Faces>& F) {
   Eigen::VectorXd K(F.rows());
   for_each_jacobian(source, result, F, [&](int f, const Eigen::Matrix2d& J, double) {
     // Closed-form singular values of a 2x2 matrix: sigma = |q| +- |r| with q, r the conformal and
@@ -54,7 +57,8 @@ Eigen::VectorXd conformal_distortion(const Positions& source, const Positions& r
   return K;
 }
 
-Eigen::VectorXd area_ratio(const Positions& source, const Positions& result, const Faces& F) {
+Eigen::VectorXd area_ratio(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
+                           const Eigen::Ref<const Faces>& F) {
   Eigen::VectorXd a(F.rows());
   for_each_jacobian(source, result, F, [&](int f, const Eigen::Matrix2d&, double ratio) { a[f] = ratio; });
   return a;

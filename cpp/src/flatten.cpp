@@ -141,7 +141,7 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
   for (int e = 0; e < E.rows(); ++e) scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
   Eval ev;
   grad_.setConstant(kTwoPi);
-  double* H = want_hessian ? chol_->values() : nullptr;
+  double* H = want_hessian && chol_ ? chol_->values() : nullptr;
   if (H) std::fill_n(H, nnz_, 0.0);
   double energy = 0;
   double angle[3], cot[3];

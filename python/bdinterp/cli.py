@@ -16,8 +16,8 @@ EXIT_INPUT = 2
 EXIT_SOLVER = 3
 
 DESCRIPTION = """\
-Bounded-distortion in-betweens of planar triangle meshes (Chien, Chen,
-Weber, Lipman: "Planar shape interpolation with bounded distortion").
+Bounded-distortion in-betweens of planar triangle meshes (Chen, Weber,
+Keren, Ben-Chen: "Planar shape interpolation with bounded distortion").
 Inputs are a SOURCE and a TARGET OBJ with identical faces, or one JSON file
 {"faces": [[i,j,k],...], "shapes": {"source": [[x,y],...],
 "target": [[x,y],...]}} (0-based faces)."""

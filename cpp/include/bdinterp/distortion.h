@@ -9,9 +9,12 @@ namespace bdinterp {
 // sqrt of the pullback metric's eigenvalue ratio). K >= 1, 1 for a similarity; +inf when the result
 // face is collapsed. A flipped face gets the K of its reflection (see area_ratio for the sign).
 // Throws InvalidInput for mismatched sizes, bad indices or a collapsed source face.
-Eigen::VectorXd conformal_distortion(const Positions& source, const Positions& result, const Faces& F);
+Eigen::VectorXd conformal_distortion(const Eigen::Ref<const Positions>& source,
+                                     const Eigen::Ref<const Positions>& result,
+                                     const Eigen::Ref<const Faces>& F);
 
 // #F signed area ratio area(result) / area(source); negative where the result face is flipped.
-Eigen::VectorXd area_ratio(const Positions& source, const Positions& result, const Faces& F);
+Eigen::VectorXd area_ratio(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
+                           const Eigen::Ref<const Faces>& F);
 
 }  // namespace bdinterp

@@ -1,0 +1,55 @@
+# The README's commands. Everything runs with Debian's /usr/bin/python3 (the interpreter Debian's
+# Blender embeds), never a pyenv/venv python without numpy.
+PYTHON  ?= /usr/bin/python3
+BLENDER ?= blender
+BUILD   ?= build
+JOBS    ?= 2
+PIP_INSTALL = $(PYTHON) -m pip install --no-build-isolation --no-deps --break-system-packages --quiet
+
+.PHONY: setup build install addon demo test test-cpp test-python test-blender gallery bench clean
+
+setup:            ## install Debian packages (apt)
+	bash scripts/setup-debian.sh
+
+build: setup      ## C++ library, tests and the in-tree Python module
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) \
+	      -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
+	cmake --build $(BUILD) -j $(JOBS)
+
+install: setup    ## the Python package bdinterp (with its compiled module) for /usr/bin/python3
+	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PIP_INSTALL) .
+
+addon: install    ## dist/ zips for Blender (legacy add-on and 4.2+ extension)
+	$(PYTHON) scripts/build_addon.py
+
+demo: addon       ## the main job: bake in-betweens of an example into out/example.blend + pictures
+	$(BLENDER) --background --factory-startup --python-exit-code 1 --python scripts/bake_example.py -- --out out
+
+test-cpp: build
+	cd $(BUILD) && ctest --output-on-failure
+	# the installed library works for a stand-alone CMake project
+	cmake --install $(BUILD) --prefix $(BUILD)/prefix >/dev/null
+	cmake -S examples/cpp -B $(BUILD)/cpp-example -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
+	cmake --build $(BUILD)/cpp-example
+	$(BUILD)/cpp-example/bend_bar
+
+test-python: install
+	cd tests && $(PYTHON) -m pytest -q python
+
+test-blender: addon
+	$(BLENDER) --background --factory-startup --python-exit-code 1 \
+	    --python tests/blender/run_blender_tests.py -- -q
+
+test: test-cpp test-python test-blender   ## everything CI runs
+
+gallery: install  ## regenerate docs/gallery (README pictures and tables)
+	$(PYTHON) scripts/make_gallery.py
+
+bench: setup      ## speed table (see docs/BENCHMARKS.md)
+	cmake -S . -B $(BUILD) -DBDINTERP_BENCH=ON -DPython_EXECUTABLE=$(PYTHON) \
+	      -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
+	cmake --build $(BUILD) -j $(JOBS) --target bdinterp_bench
+	$(BUILD)/bdinterp_bench
+
+clean:
+	rm -rf $(BUILD) dist out

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Installs every Debian 12 package bdinterp needs to build, test and run (idempotent; needs root or sudo).
+set -euo pipefail
+packages=(
+  build-essential cmake pkg-config
+  libsuitesparse-dev libeigen3-dev libopenblas0-pthread   # CHOLMOD (fast BLAS for its supernodal path), Eigen
+  libgtest-dev libbenchmark-dev                           # C++ tests and benchmarks
+  python3-dev python3-pip python3-setuptools python3-pybind11 pybind11-dev
+  python3-numpy python3-scipy python3-matplotlib python3-pytest
+  blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if ((${#missing[@]})); then
+  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
+  echo "installing: ${missing[*]}"
+  $SUDO apt-get update -qq
+  DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+fi

@@ -1,0 +1,24 @@
+"""Shared fixtures: the test meshes come from bdinterp.meshes (jittered Delaunay, never grid-aligned)."""
+import numpy as np
+import pytest
+
+from bdinterp import meshes
+
+
+@pytest.fixture(scope="session")
+def disk():
+    """(V, F): a jittered Delaunay disk of ~400 vertices on the analytic maps' domain."""
+    center, radius = meshes.MAP_DOMAIN
+    return meshes.disk(400, seed=3, center=center, radius=radius)
+
+
+@pytest.fixture(scope="session")
+def bar():
+    """(V, F, T): a 4 x 0.5 bar and its bend by 250 degrees (the tip turns past 180)."""
+    V, F = meshes.rectangle(4.0, 0.5, 600, seed=2)
+    angle = np.radians(250)
+    radius = 4.0 / angle
+    a = V[:, 0] / radius
+    r = radius - (V[:, 1] - 0.25)
+    T = np.c_[r * np.sin(a), radius - r * np.cos(a)]
+    return V, F, T
