@@ -19,7 +19,10 @@ struct SparseCholesky::Impl {
   int ncols = 0;
   bool factored = false;
 
-  Impl() { cholmod_start(&common); }
+  Impl() {
+    cholmod_start(&common);
+    common.print = 0;  // failures are reported through exceptions, not printed
+  }
   ~Impl() {
     cholmod_free_dense(&B, &common);
     cholmod_free_dense(&X, &common);

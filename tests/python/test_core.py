@@ -282,3 +282,45 @@ def test_solver_error_is_a_runtime_error(disk):
     assert issubclass(bdinterp.SolverError, RuntimeError)
     with pytest.raises(bdinterp.SolverError, match="did not converge"):
         bdinterp.Interpolator([V, T], F, max_iterations=1, tol=1e-15).at(0.5)
+
+
+def test_random_corruptions_never_crash_and_never_return_nan():
+    # Fuzz: corrupted indices, extra/missing faces, wild or non-finite targets, collapsed faces and
+    # extrapolation. Each call returns finite points or raises ValueError / SolverError.
+    rng = np.random.default_rng(7)
+    V0, F0 = meshes.disk(60, seed=2)
+    outcomes = set()
+    for _ in range(400):
+        V, F = V0.copy(), F0.copy()
+        T = V * rng.uniform(0.3, 3, 2) + rng.normal(0, 0.05, V.shape)
+        kind = rng.integers(0, 7)
+        if kind == 0:
+            F[rng.integers(len(F)), rng.integers(3)] = rng.integers(-3, len(V) + 3)
+        elif kind == 1:
+            F = np.vstack([F, rng.integers(0, len(V), (rng.integers(1, 4), 3))])
+        elif kind == 2:
+            F = F[rng.permutation(len(F))[:rng.integers(1, len(F))]]
+        elif kind == 3:
+            T[rng.integers(len(V))] = rng.normal(0, 10, 2)
+        elif kind == 4:
+            V[rng.integers(len(V))] = V[rng.integers(len(V))]
+        elif kind == 5:
+            T[rng.integers(len(V))] = [np.inf, 0]
+        t = rng.choice([0.5, -1.0, 2.0, 0.0, 1.0, rng.uniform(-3, 4)])
+        try:
+            X = bdinterp.interpolate(V, T, F, t)
+            assert np.isfinite(X).all()
+            outcomes.add("ok")
+        except ValueError:
+            outcomes.add("ValueError")
+        except bdinterp.SolverError:
+            outcomes.add("SolverError")
+    assert {"ok", "ValueError"} <= outcomes
+
+
+def test_pieces_without_interior_vertices():
+    # A quad split in two has no interior vertex: nothing to flatten, the metric blend is the answer.
+    V = np.array([[0, 0], [1, 0], [0, 1], [1, 1.0]])
+    F = [[0, 1, 2], [1, 3, 2]]
+    X = bdinterp.interpolate(V, V * [3, 1], F, 0.5)
+    np.testing.assert_allclose(edge_lengths(X, np.array(F)), edge_lengths(V * [np.sqrt(5), 1], np.array(F)))

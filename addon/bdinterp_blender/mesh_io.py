@@ -1,0 +1,95 @@
+"""Mesh and shape-key data <-> numpy (foreach_get/foreach_set; never per-vertex Python loops)."""
+
+import numpy as np
+
+
+class BakeError(ValueError):
+    """Invalid input for a bake/blend/live request; the message is meant for the user."""
+
+
+def key_of(obj):
+    if obj is None or obj.type != 'MESH':
+        raise BakeError("%s is not a mesh" % (obj.name if obj else "No object"))
+    key = obj.data.shape_keys
+    if key is None or len(key.key_blocks) < 2:
+        raise BakeError("%s has no shape keys to interpolate (needs at least two)" % obj.name)
+    if obj.mode == 'EDIT':
+        raise BakeError("%s is in Edit Mode; switch to Object Mode first" % obj.name)
+    return key
+
+
+def key_block(key, name):
+    """The key block called `name` ('' or None: the reference key)."""
+    if not name:
+        return key.reference_key
+    kb = key.key_blocks.get(name)
+    if kb is None:
+        raise BakeError("no shape key named %r" % name)
+    return kb
+
+
+def read_co(kb):
+    co = np.empty(len(kb.data) * 3, dtype=np.float32)
+    kb.data.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def write_co(kb, co):
+    kb.data.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
+
+
+def triangles(mesh):
+    """(faces (m,3) int64, polygon index of each triangle (m,)).
+
+    Blender's loop triangles tessellate quads and (concave) n-gons; they are runtime data, so
+    the mesh itself is not changed.
+    """
+    mesh.calc_loop_triangles()
+    m = len(mesh.loop_triangles)
+    if m == 0:
+        raise BakeError("%s has no faces" % mesh.name)
+    faces = np.empty(m * 3, dtype=np.int32)
+    poly = np.empty(m, dtype=np.int32)
+    mesh.loop_triangles.foreach_get("vertices", faces)
+    mesh.loop_triangles.foreach_get("polygon_index", poly)
+    return faces.reshape(-1, 3).astype(np.int64), poly.astype(np.int64)
+
+
+def project_planar(shapes, names, rel_tol):
+    """Project every shape onto the plane fitted to shapes[0]; BakeError if one misses it by
+    more than rel_tol x size (bounding-box diagonal of shapes[0]), saying by how much.
+
+    Projecting here makes this (user-set) tolerance the one that counts: the core then sees
+    exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
+    """
+    base = shapes[0]
+    centre = base.mean(axis=0)
+    normal = np.linalg.svd(base - centre, full_matrices=False)[2][-1]
+    size = float(np.linalg.norm(base.max(axis=0) - base.min(axis=0))) or 1.0
+    tol = rel_tol * size
+    bad, out = [], []
+    for co, name in zip(shapes, names):
+        off = (co - centre) @ normal
+        worst = int(np.argmax(np.abs(off)))
+        if abs(off[worst]) > tol:
+            bad.append("%r is off by %.6g (vertex %d)" % (name, abs(off[worst]), worst))
+        out.append(co - off[:, None] * normal)
+    if bad:
+        raise BakeError("shape keys are not planar: %s; tolerance %.3g (%g x size %.4g)"
+                        % ("; ".join(bad), tol, rel_tol, size))
+    return out
+
+
+def anchor_vertex_of_group(obj, group_name):
+    """The vertex of `group_name` with the largest weight (lowest index on ties)."""
+    group = obj.vertex_groups.get(group_name)
+    if group is None:
+        raise BakeError("no vertex group named %r" % group_name)
+    best, best_w = None, -1.0
+    for v in obj.data.vertices:  # vertex groups have no foreach access
+        for g in v.groups:
+            if g.group == group.index and g.weight > best_w:
+                best, best_w = v.index, g.weight
+    if best is None:
+        raise BakeError("vertex group %r is empty" % group_name)
+    return best

@@ -1,0 +1,194 @@
+"""Operators: thin wrappers that read Object.bdi, call api.py and report.
+
+Every operator validates and computes before it writes, so a failure (reported as an error)
+changes nothing; each is one undo step.
+"""
+
+import bpy
+from bpy.props import EnumProperty, IntProperty
+
+from . import api, timing
+
+CURVE_NODE = "Easing"
+
+
+def easing_of(props):
+    """The easing argument for api.bake: a preset name, or a callable for the custom curve."""
+    if props.easing != 'CUSTOM':
+        return props.easing
+    tree = props.easing_curve
+    node = tree.nodes.get(CURVE_NODE) if tree else None
+    if node is None:
+        raise api.BakeError("custom easing needs a curve: press 'New Curve' first")
+    mapping = node.mapping
+    mapping.initialize()
+    return lambda u: mapping.evaluate(mapping.curves[0], u)
+
+
+def anchor_of(props):
+    return {'AUTO': "AUTO", 'VERTEX': props.anchor_vertex, 'GROUP': props.anchor_group}[props.anchor]
+
+
+def bake_settings(props):
+    """Keyword arguments of api.bake() from the panel settings."""
+    kw = dict(target=props.target, source=props.source or None, easing=easing_of(props),
+              anchor=anchor_of(props), anchor_path=props.anchor_path, method=props.method,
+              tolerance=props.tolerance, drivers=props.drivers)
+    if props.use_factors:
+        kw["factors"] = timing.parse_factors(props.factors)
+    else:
+        kw["count"] = props.count
+    return kw
+
+
+class _ObjectOperator:
+    bl_options = {'REGISTER', 'UNDO'}
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        if obj is None or obj.type != 'MESH':
+            cls.poll_message_set("Select a mesh object")
+            return False
+        return True
+
+    def execute(self, context):
+        try:
+            message = self.run(context, context.object)
+        except (ValueError, RuntimeError) as exc:  # BakeError, core ValueError, SolverError
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        if message:
+            self.report({'INFO'}, message)
+        return {'FINISHED'}
+
+
+class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
+    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys"""
+    bl_idname = "bdinterp.bake"
+    bl_label = "Bake In-betweens"
+
+    def run(self, context, obj):
+        wm = context.window_manager
+        kw = bake_settings(obj.bdi)
+        wm.progress_begin(0, kw.get("count") or len(kw.get("factors") or ()) or 1)
+        try:
+            result = api.bake(obj, progress=lambda done, total: wm.progress_update(done), **kw)
+        finally:
+            wm.progress_end()
+        return result.message
+
+
+class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
+    """Remove the baked in-betweens of the source and target keys, their drivers and slider"""
+    bl_idname = "bdinterp.clear"
+    bl_label = "Clear Bake"
+
+    def run(self, context, obj):
+        removed = api.clear(obj, obj.bdi.target, obj.bdi.source or None)
+        return "Removed %d baked keys" % len(removed)
+
+
+class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
+    """Bake a bounded-distortion blend of the pose keys with their weights into one key"""
+    bl_idname = "bdinterp.blend"
+    bl_label = "Bake Pose Blend"
+
+    def run(self, context, obj):
+        props = obj.bdi
+        name, k_out, k_in = api.blend(obj, [(p.key, p.weight) for p in props.poses],
+                                      source=props.source or None, name=props.blend_name,
+                                      anchor=anchor_of(props), tolerance=props.tolerance)
+        return "Baked %s: max distortion %.4g (poses %.4g)" % (name, k_out, k_in)
+
+
+class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
+    """Add the active shape key to the poses to blend"""
+    bl_idname = "bdinterp.pose_add"
+    bl_label = "Add Pose"
+
+    def run(self, context, obj):
+        kb = obj.active_shape_key
+        if kb is None:
+            raise api.BakeError("no active shape key")
+        item = obj.bdi.poses.add()
+        item.key, item.weight = kb.name, 0.0
+        return None
+
+
+class BDINTERP_OT_pose_remove(_ObjectOperator, bpy.types.Operator):
+    """Remove this pose from the blend"""
+    bl_idname = "bdinterp.pose_remove"
+    bl_label = "Remove Pose"
+    index: IntProperty()
+
+    def run(self, context, obj):
+        if not 0 <= self.index < len(obj.bdi.poses):
+            raise api.BakeError("no pose %d" % self.index)
+        obj.bdi.poses.remove(self.index)
+        return None
+
+
+class BDINTERP_OT_anchor_from_selection(_ObjectOperator, bpy.types.Operator):
+    """Anchor the interpolation at the active (or first) selected vertex"""
+    bl_idname = "bdinterp.anchor_from_selection"
+    bl_label = "Use Selected Vertex"
+
+    def run(self, context, obj):
+        index = None
+        if obj.mode == 'EDIT':
+            import bmesh
+            bm = bmesh.from_edit_mesh(obj.data)
+            active = bm.select_history.active
+            if isinstance(active, bmesh.types.BMVert):
+                index = active.index
+            else:
+                index = next((v.index for v in bm.verts if v.select), None)
+        else:
+            index = next((v.index for v in obj.data.vertices if v.select), None)
+        if index is None:
+            raise api.BakeError("no vertex selected")
+        obj.bdi.anchor, obj.bdi.anchor_vertex = 'VERTEX', index
+        return "Anchor: vertex %d" % index
+
+
+class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):
+    """Show the per-face conformal distortion of the active baked or live key as colours"""
+    bl_idname = "bdinterp.distortion"
+    bl_label = "Distortion View"
+    action: EnumProperty(items=[('TOGGLE', "Toggle", ""), ('SHOW', "Show", ""), ('HIDE', "Hide", "")])
+
+    def run(self, context, obj):
+        show = not obj.bdi.distortion_visible if self.action == 'TOGGLE' else self.action == 'SHOW'
+        if not show:
+            api.hide_distortion(obj)
+            return None
+        k = api.show_distortion(obj)
+        return "Distortion of %s: max %.4g" % (obj.active_shape_key.name, float(k.max()))
+
+
+class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
+    """Create a custom easing curve (x: slider position, y: interpolation factor)"""
+    bl_idname = "bdinterp.easing_curve_new"
+    bl_label = "New Curve"
+
+    def run(self, context, obj):
+        tree = bpy.data.node_groups.new(".bdi_easing_" + obj.name, 'ShaderNodeTree')
+        tree.nodes.new('ShaderNodeFloatCurve').name = CURVE_NODE  # default: the diagonal
+        obj.bdi.easing_curve, obj.bdi.easing = tree, 'CUSTOM'
+        return None
+
+
+CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_clear, BDINTERP_OT_blend, BDINTERP_OT_pose_add,
+           BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
+           BDINTERP_OT_easing_curve_new)
+
+
+def register():
+    for cls in CLASSES:
+        bpy.utils.register_class(cls)
+
+
+def unregister():
+    for cls in reversed(CLASSES):
+        bpy.utils.unregister_class(cls)

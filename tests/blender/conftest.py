@@ -1,0 +1,209 @@
+"""Fixtures and mesh builders for the Blender tests (run inside Blender by run_blender_tests.py)."""
+
+import glob
+import json
+import math
+import os
+import subprocess
+
+import bpy
+import numpy as np
+import pytest
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+TOL = 1e-6
+
+
+def addon_zip():
+    path = os.environ.get("BDI_ADDON_ZIP")
+    if path:
+        return path
+    zips = sorted(glob.glob(os.path.join(ROOT, "dist", "bdinterp_blender-*-legacy-*.zip")),
+                  key=os.path.getmtime)
+    if not zips:
+        pytest.exit("no add-on zip: run `/usr/bin/python3 scripts/build_addon.py` first", 2)
+    return zips[-1]
+
+
+@pytest.fixture(scope="session")
+def addon():
+    """Install the built zip with Blender's own installer (isolated user folder) and enable it."""
+    import addon_utils
+    assert os.environ.get("BLENDER_USER_SCRIPTS"), "run through run_blender_tests.py"
+    bpy.ops.preferences.addon_install(filepath=addon_zip(), overwrite=True)
+    addon_utils.enable("bdinterp_blender", default_set=True)
+    assert addon_utils.check("bdinterp_blender") == (True, True)
+    import bdinterp_blender
+    assert bdinterp_blender.__file__.startswith(os.environ["BLENDER_USER_SCRIPTS"])
+    return bdinterp_blender
+
+
+@pytest.fixture(scope="session")
+def bd(addon):
+    """The bdinterp package the add-on uses (the copy vendored in the zip)."""
+    return addon.load_core()
+
+
+@pytest.fixture(autouse=True)
+def empty_file(addon):
+    bpy.ops.wm.read_homefile(use_empty=True)
+    yield
+
+
+# ---------------------------------------------------------------- data access
+
+def read_key(obj, name):
+    kb = obj.data.shape_keys.key_blocks[name]
+    co = np.empty(len(kb.data) * 3, dtype=np.float32)
+    kb.data.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def triangles(obj):
+    me = obj.data
+    me.calc_loop_triangles()
+    tris = np.empty(len(me.loop_triangles) * 3, dtype=np.int32)
+    me.loop_triangles.foreach_get("vertices", tris)
+    return tris.reshape(-1, 3).astype(np.int64)
+
+
+def evaluated_co(obj):
+    bpy.context.view_layer.update()
+    ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+    co = np.empty(len(ev.data.vertices) * 3, dtype=np.float32)
+    ev.data.vertices.foreach_get("co", co)
+    return co.reshape(-1, 3).astype(np.float64)
+
+
+def key_names(obj):
+    return [kb.name for kb in obj.data.shape_keys.key_blocks] if obj.data.shape_keys else []
+
+
+def maxdiff(a, b):
+    return float(np.max(np.abs(np.asarray(a) - np.asarray(b))))
+
+
+# ---------------------------------------------------------------- test meshes
+
+def mesh_object(name, verts, faces):
+    me = bpy.data.meshes.new(name)
+    me.from_pydata([tuple(v) for v in verts], [], [tuple(f) for f in faces])
+    me.update()
+    obj = bpy.data.objects.new(name, me)
+    bpy.context.scene.collection.objects.link(obj)
+    bpy.context.view_layer.objects.active = obj
+    obj.select_set(True)
+    return obj
+
+
+def add_key(obj, name, co, relative=None):
+    if obj.data.shape_keys is None:
+        obj.shape_key_add(name="Basis", from_mix=False)
+    kb = obj.shape_key_add(name=name, from_mix=False)
+    kb.data.foreach_set("co", np.asarray(co, dtype=np.float32).ravel())
+    if relative:
+        kb.relative_key = obj.data.shape_keys.key_blocks[relative]
+    return kb
+
+
+def grid(nx, ny, w, h, x0=0.0, y0=0.0):
+    """Quad grid in XY: (verts (n,3), quads)."""
+    xs, ys = np.meshgrid(np.linspace(x0, x0 + w, nx + 1), np.linspace(y0, y0 + h, ny + 1))
+    verts = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], axis=1)
+    quads = [(j * (nx + 1) + i, j * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i)
+             for j in range(ny) for i in range(nx)]
+    return verts, quads
+
+
+def bent_strip(name="Strip", angle=math.radians(90)):
+    """A subdivided plane bent with a Simple Deform modifier, applied as the shape key 'Bend'."""
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=16, y_subdivisions=4, size=2.0)
+    obj = bpy.context.object
+    obj.name = name
+    co = np.empty(len(obj.data.vertices) * 3)
+    obj.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3) * [1.0, 0.2, 1.0]  # a long strip (2 x 0.4), like an arm
+    obj.data.vertices.foreach_set("co", co.ravel())
+    obj.data.update()
+    obj.shape_key_add(name="Basis", from_mix=False)
+    mod = obj.modifiers.new("Bend", 'SIMPLE_DEFORM')
+    mod.deform_method, mod.deform_axis, mod.angle = 'BEND', 'Z', angle
+    bpy.ops.object.modifier_apply_as_shapekey(modifier="Bend")
+    assert key_names(obj) == ["Basis", "Bend"]
+    return obj
+
+
+def text_glyph(name="Glyph", char="S"):
+    """A filled text glyph converted to a mesh; target: a smooth shear + stretch."""
+    bpy.ops.object.text_add()
+    txt = bpy.context.object
+    txt.data.body = char
+    bpy.ops.object.convert(target='MESH')
+    obj = bpy.context.object
+    obj.name = name
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.select_all(action='SELECT')
+    bpy.ops.mesh.remove_doubles(threshold=1e-5)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    co = np.empty(len(obj.data.vertices) * 3)
+    obj.data.vertices.foreach_get("co", co)
+    co = co.reshape(-1, 3)
+    x, y = co[:, 0], co[:, 1]
+    target = np.stack([1.2 * x + 0.5 * y * y, 0.8 * y + 0.2 * x, co[:, 2]], axis=1)
+    add_key(obj, "Lean", target)
+    return obj
+
+
+def ngon_xz(name="Ngon", y=0.3):
+    """N-gons (a concave L hexagon, a pentagon, a quad) in the plane y = const (XZ plane)."""
+    pts = [(0, 0), (2, 0), (2, 1), (1, 1), (1, 2), (0, 2),   # L (concave hexagon)
+           (3, 0), (3.5, 1), (2.5, 1.6),                       # pentagon with 2, 1 -> shares edge 1-2
+           (-1, 0), (-1, 2)]                                   # quad left of the L
+    verts = [(px, y, pz) for px, pz in pts]
+    faces = [(0, 1, 2, 3, 4, 5), (1, 6, 7, 8, 2), (9, 0, 5, 10)]
+    obj = mesh_object(name, verts, faces)
+    v = np.array(verts)
+    x, z = v[:, 0], v[:, 2]
+    add_key(obj, "Shear", np.stack([x + 0.3 * z, v[:, 1], 1.1 * z + 0.05 * x * x], axis=1))
+    return obj
+
+
+def two_pieces(name="Pieces"):
+    """Two separate grids in one mesh, each with its own deformation."""
+    va, fa = grid(6, 3, 1.5, 0.6)
+    vb, fb = grid(4, 4, 1.0, 1.0, x0=2.5)
+    verts = np.vstack([va, vb])
+    faces = fa + [tuple(i + len(va) for i in f) for f in fb]
+    obj = mesh_object(name, verts, faces)
+    tgt = verts.copy()
+    a = np.arange(len(verts)) < len(va)
+    tgt[a, 1] += 0.3 * tgt[a, 0] ** 2                              # piece A bends
+    c, s = math.cos(0.8), math.sin(0.8)                            # piece B rotates + stretches
+    bx, by = tgt[~a, 0] - 3.0, tgt[~a, 1] - 0.5
+    tgt[~a, 0], tgt[~a, 1] = 3.0 + 1.3 * (c * bx - s * by), 0.5 + (s * bx + c * by)
+    add_key(obj, "Move", tgt)
+    return obj
+
+
+# ---------------------------------------------------------------- other Blender processes
+
+def run_blender(args, env_drop=("BLENDER_USER_SCRIPTS",), timeout=300):
+    """Run another (headless) Blender; by default without our user folder, i.e. without the
+    add-on.  Returns the CompletedProcess; stdout lines 'JSON:...' carry results."""
+    env = {k: v for k, v in os.environ.items() if k not in env_drop}
+    proc = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", *args],
+                          capture_output=True, text=True, timeout=timeout, env=env)
+    return proc
+
+
+def json_lines(proc):
+    out = [json.loads(line[5:]) for line in proc.stdout.splitlines() if line.startswith("JSON:")]
+    assert out, "no result from child Blender:\n%s\n%s" % (proc.stdout[-3000:], proc.stderr[-3000:])
+    return out
+
+
+def write_child_script(tmp_path, body):
+    path = os.path.join(str(tmp_path), "child.py")
+    with open(path, "w") as f:
+        f.write("import bpy, json, sys\nimport numpy as np\n" + body)
+    return path
