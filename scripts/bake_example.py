@@ -3,9 +3,8 @@
     blender --background --factory-startup --python-exit-code 1 \
         --python scripts/bake_example.py -- [--example character] [--count 4] [--out out]
 
-Loads examples/<example>/source.obj + target.obj (made by examples/make_examples.py; if absent a
-bent bar is built here), makes a mesh with shape keys 'Basis' and 'Pose', bakes bounded-distortion
-in-betweens with the add-on's scripting API, keyframes the playback slider over frames 1-24,
+Loads examples/<example>/source.obj + target.obj (made by examples/make_examples.py), makes a
+mesh with shape keys 'Basis' and 'Pose', bakes bounded-distortion in-betweens with the add-on's scripting API, keyframes the playback slider over frames 1-24,
 saves out/example.blend and renders out/example_<NN>.png (each state, coloured by conformal
 distortion) and out/example_strip.png (all of them side by side, the README picture).
 Uses the installed add-on if importable, else addon/ from this checkout (then bdinterp must be
@@ -13,7 +12,7 @@ importable by Blender's Python, e.g. after `pip install .`).
 """
 
 import argparse
-import math
+import importlib
 import os
 import sys
 
@@ -32,38 +31,13 @@ def import_addon():
     return bdinterp_blender
 
 
-def read_obj(path):
-    verts, faces = [], []
-    with open(path) as f:
-        for line in f:
-            parts = line.split()
-            if parts and parts[0] == "v":
-                verts.append([float(x) for x in parts[1:4]])
-            elif parts and parts[0] == "f":
-                faces.append([int(p.split("/")[0]) - 1 for p in parts[1:]])
-    return np.array(verts), faces
-
-
-def example_shapes(name):
+def example_shapes(addon, name):
+    """(source (n,3), target (n,3), faces) of examples/<name>, read with bdinterp's own OBJ reader."""
     folder = os.path.join(ROOT, "examples", name)
-    if os.path.exists(os.path.join(folder, "source.obj")):
-        src, faces = read_obj(os.path.join(folder, "source.obj"))
-        tgt, _ = read_obj(os.path.join(folder, "target.obj"))
-        return src, tgt, faces
-    print("bake_example: %s not found, building a bent bar" % folder)
-    nx, ny, length, width = 40, 4, 4.0, 0.5
-    xs, ys = np.meshgrid(np.linspace(0, length, nx + 1), np.linspace(-width / 2, width / 2, ny + 1))
-    src = np.stack([xs.ravel(), ys.ravel(), np.zeros(xs.size)], axis=1)
-    faces = [[j * (nx + 1) + i, j * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i + 1, (j + 1) * (nx + 1) + i]
-             for j in range(ny) for i in range(nx)]
-    # bend the right half by 150 degrees around a point above the bar
-    angle = np.clip((src[:, 0] - 2.0) / 2.0, 0, 1) * math.radians(150)
-    r = 2.0 / math.radians(150) - src[:, 1]
-    tgt = src.copy()
-    bend = src[:, 0] > 2.0
-    tgt[bend, 0] = 2.0 + r[bend] * np.sin(angle[bend])
-    tgt[bend, 1] = 2.0 / math.radians(150) - r[bend] * np.cos(angle[bend])
-    return src, tgt, faces
+    io = importlib.import_module(addon.load_core().__name__ + ".io")
+    src, tgt, faces = io.read_pair(os.path.join(folder, "source.obj"), os.path.join(folder, "target.obj"))
+    pad = [np.c_[X, np.zeros(len(X))] if X.shape[1] == 2 else X for X in (src, tgt)]
+    return pad[0], pad[1], faces.tolist()
 
 
 def make_object(src, tgt, faces):
@@ -130,7 +104,7 @@ def main():
     os.makedirs(args.out, exist_ok=True)
     addon = import_addon()
 
-    src, tgt, faces = example_shapes(args.example)
+    src, tgt, faces = example_shapes(addon, args.example)
     obj = make_object(src, tgt, faces)
     result = addon.bake(obj, source="Basis", target="Pose", count=args.count, easing="EASE_IN_OUT")
     print(result.message)
