@@ -184,11 +184,4 @@ CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_clear, BDINTERP_OT_blend, BDINTERP_OT_p
            BDINTERP_OT_easing_curve_new)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

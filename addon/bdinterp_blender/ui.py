@@ -167,24 +167,7 @@ CLASSES = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_poses, BDINTERP
 
 class degraded:
     """Registered instead of everything else when the core cannot load: explains why."""
-    CLASSES = (BDINTERP_PT_main, BDINTERP_AP_preferences)
-
-    @classmethod
-    def register(cls):
-        for c in cls.CLASSES:
-            bpy.utils.register_class(c)
-
-    @classmethod
-    def unregister(cls):
-        for c in reversed(cls.CLASSES):
-            bpy.utils.unregister_class(c)
+    register, unregister = bpy.utils.register_classes_factory((BDINTERP_PT_main, BDINTERP_AP_preferences))
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+register, unregister = bpy.utils.register_classes_factory(CLASSES)
