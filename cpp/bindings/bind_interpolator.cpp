@@ -25,6 +25,9 @@ py::dict stats_dict(const FrameStats& s) {
   d["max_broken_triangles"] = s.max_broken_triangles;
   d["flatness"] = s.flatness;
   d["pieces"] = s.pieces;
+  d["factorizations"] = s.factorizations;
+  d["chord_steps"] = s.chord_steps;
+  d["seconds"] = s.seconds;
   return d;
 }
 
@@ -56,6 +59,13 @@ void bind_interpolator(py::module_& m) {
            py::call_guard<py::gil_scoped_release>(),
            "Writes frame j into rows [j n, (j+1) n) of out, a C-contiguous float64 (len(ts) n, 2) array.")
       .def_property_readonly("stats", [](const Interpolator& I) { return stats_dict(I.last_stats()); })
+      .def("forget", &Interpolator::forget,
+           "Drops cached solutions and factorisations: the next frame is computed cold.")
+      .def("floor_seconds", &Interpolator::floor_seconds, py::arg("repeats") = 5,
+           py::call_guard<py::gil_scoped_release>(),
+           "Median seconds of one Cholesky factorisation + solve of the interior cotan Laplacian.")
+      .def_property("threads", &Interpolator::threads, &Interpolator::set_threads,
+                    "Worker threads of frames_into (0 = all cores, 1 = sequential).")
       .def_property_readonly("num_vertices", &Interpolator::num_vertices)
       .def_property_readonly("num_shapes", &Interpolator::num_shapes);
 }

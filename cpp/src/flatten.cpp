@@ -1,6 +1,5 @@
 #include "bdinterp/flatten.h"
 
-#include <chrono>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -58,6 +57,8 @@ Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
   }
   nnz_ = static_cast<int>(rows.size());
   chol_ = std::make_unique<SparseCholesky>(num_interior_, col_ptr, rows);
+  col_ptr_ = std::move(col_ptr);
+  rows_ = std::move(rows);
 }
 
 Flattener::Flattener(Flattener&&) noexcept = default;
@@ -74,14 +75,43 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
   copy->grad_.resize(num_interior_);
   copy->scaled_l2_.resize(scaled_l2_.size());
+  copy->col_ptr_ = col_ptr_;
+  copy->rows_ = rows_;
   copy->factor_reusable_ = factor_reusable_ && chol_;
-  copy->factor_seconds_ = factor_seconds_;
-  copy->chord_seconds_ = chord_seconds_;
+  copy->factor_cost_ = factor_cost_;
+  copy->chord_cost_ = chord_cost_;
   copy->newton_c_ = newton_c_;
   return copy;
 }
 
 namespace {
+
+// 2 atan2(y, x) for y, x > 0, accurate to about 2 ulps (Cephes' atan: range reduction to
+// |z| <= 0.66 and a rational approximation), several times faster than std::atan2.
+[[maybe_unused]] inline double twice_atan2_positive(double y, double x) {
+  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
+  constexpr double kMoreBits = 6.123233995736765886130e-17, kT3p8 = 2.41421356237309504880;
+  double base, z, extra;
+  if (y > kT3p8 * x) {  // never taken for the two smaller angles of a triangle (y <= x)
+    base = kPio2;
+    z = -x / y;
+    extra = kMoreBits;
+  } else {  // written as selects so that the compiler need not branch
+    const bool mid = y > 0.66 * x;
+    const double num = mid ? y - x : y, den = mid ? y + x : x;
+    base = mid ? kPio4 : 0.0;
+    extra = mid ? 0.5 * kMoreBits : 0.0;
+    z = num / den;
+  }
+  const double zz = z * z;
+  const double p = (((-8.750608600031904122785e-1 * zz - 1.615753718733365076637e1) * zz -
+                     7.500855792314704667340e1) * zz - 1.228866684490136173410e2) * zz -
+                   6.485021904942025371773e1;
+  const double q = ((((zz + 2.485846490142306297962e1) * zz + 1.650270098316988542046e2) * zz +
+                     4.328810604912902668951e2) * zz + 4.853903996359136964868e2) * zz +
+                   1.945506571482613964425e2;
+  return 2.0 * (base + (z + z * (zz * p / q) + extra));
+}
 
 // Angles (and optionally cotangents) of a triangle from its squared edge lengths, with the CETM
 // convention of triangle.h for broken triples. Two atan2 per face: the largest angle (opposite the
@@ -99,6 +129,8 @@ inline bool face_angles(const double l2[3], double angle[3], double* cot) {
   const double s = l[0] + l[1] + l[2];
   const int i = (longest + 1) % 3, j = (longest + 2) % 3;
   // Half-angle formula: accurate for needle and cap triangles alike.
+  // (twice_atan2_positive is ~2x faster and as accurate, but its last-ulp differences changed the
+  // path of slow, broken-triangle solves; kept for experiments, std::atan2 used.)
   angle[i] = 2 * std::atan2(std::sqrt(x[j] * x[longest]), std::sqrt(s * x[i]));
   angle[j] = 2 * std::atan2(std::sqrt(x[i] * x[longest]), std::sqrt(s * x[j]));
   angle[longest] = kPi - angle[i] - angle[j];
@@ -270,25 +302,78 @@ void Flattener::factorize_with_shift() {
   }
 }
 
+void Flattener::hessian_times(const double* x, double* y) const {
+  const double* H = chol_->values();
+  std::fill_n(y, num_interior_, 0.0);
+  for (int j = 0; j < num_interior_; ++j) {
+    const int p0 = col_ptr_[j], p1 = col_ptr_[j + 1];
+    double acc = H[p0] * x[j];  // diagonal first in every column
+    const double xj = x[j];
+    for (int p = p0 + 1; p < p1; ++p) {
+      const int i = rows_[p];
+      acc += H[p] * x[i];
+      y[i] += H[p] * xj;
+    }
+    y[j] += acc;
+  }
+}
+
+int Flattener::preconditioned_cg(double eta, int max_iterations) {
+  // Solves H step_ = -grad_ (H: the values in the solver, M: its factorisation) until the max-norm
+  // of the linear residual is <= eta. Returns the number of iterations.
+  const int n = num_interior_;
+  cg_r_.resize(n);
+  cg_z_.resize(n);
+  cg_p_.resize(n);
+  cg_q_.resize(n);
+  for (int i = 0; i < n; ++i) step_[i] = -grad_[i];
+  chol_->solve(step_.data(), step_.data());  // the chord step
+  hessian_times(step_.data(), cg_q_.data());
+  for (int i = 0; i < n; ++i) cg_r_[i] = -grad_[i] - cg_q_[i];
+  int it = 0;
+  if (cg_r_.cwiseAbs().maxCoeff() <= eta) return it;
+  chol_->solve(cg_r_.data(), cg_z_.data());
+  cg_p_ = cg_z_;
+  double rz = cg_r_.dot(cg_z_);
+  for (it = 1; it <= max_iterations; ++it) {
+    hessian_times(cg_p_.data(), cg_q_.data());
+    const double pq = cg_p_.dot(cg_q_);
+    if (!(pq > 0)) break;
+    const double alpha = rz / pq;
+    step_ += alpha * cg_p_;
+    cg_r_ -= alpha * cg_q_;
+    if (cg_r_.cwiseAbs().maxCoeff() <= eta) break;
+    chol_->solve(cg_r_.data(), cg_z_.data());
+    const double rz_next = cg_r_.dot(cg_z_);
+    cg_p_ = cg_z_ + (rz_next / rz) * cg_p_;
+    rz = rz_next;
+  }
+  return it;
+}
+
 namespace {
 
+// Operation-count estimate of one evaluation of angles (atan2, sqrt, exp per face): costs are
+// estimated, not timed, so that a solve takes the same path on every machine and every run.
+constexpr double kFlopsPerFace = 150;
+
 // Expected cost of reaching `tol` from residual r with chord steps contracting by `rate` each.
-double chord_cost(double r, double tol, double rate, double step_seconds) {
+double chord_cost(double r, double tol, double rate, double step_cost) {
   if (rate >= 0.5) return std::numeric_limits<double>::infinity();
-  return std::ceil(std::log(tol / r) / std::log(rate)) * step_seconds;
+  return std::ceil(std::log(tol / r) / std::log(rate)) * step_cost;
 }
 
 // Expected cost with Newton steps r <- c r^2 (a fresh factorisation each), the last Newton step
 // possibly replaced by chord steps with the factor it leaves (contraction about c r).
-double newton_cost(double r, double tol, double c, double newton_seconds, double step_seconds) {
+double newton_cost(double r, double tol, double c, double newton_step_cost, double step_cost) {
   double cost = 0;
   for (int k = 0; k < 8 && r > tol; ++k) {
     const double next = std::min(c * r * r, 0.5 * r);
-    cost += newton_seconds;
+    cost += newton_step_cost;
     if (next <= tol) return cost;
     const double rate = std::min(c * r, 0.5);
-    const double chord = chord_cost(next, tol, rate, step_seconds);
-    if (chord < newton_seconds) return cost + chord;
+    const double chord = chord_cost(next, tol, rate, step_cost);
+    if (chord < newton_step_cost) return cost + chord;
     r = next;
   }
   return cost;
@@ -296,9 +381,10 @@ double newton_cost(double r, double tol, double c, double newton_seconds, double
 
 }  // namespace
 
+double Flattener::evaluation_cost() const { return kFlopsPerFace * mesh_->num_faces(); }
+
 FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
                                const FlattenOptions& options) {
-  using Clock = std::chrono::steady_clock;
   const Mesh& m = *mesh_;
   if (l2.size() != m.num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != m.num_vertices()) u = Eigen::VectorXd::Zero(m.num_vertices());
@@ -327,15 +413,18 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     }
     ++rep.iterations;
     if (try_chord) {
-      const auto t0 = Clock::now();
-      for (int i = 0; i < num_interior_; ++i) step_[i] = -grad_[i];
-      chol_->solve(step_.data(), step_.data());
+      // Newton step with the Hessian at u (assembled without angles), solved by conjugate gradients
+      // preconditioned with the earlier factorisation: a few solves instead of a factorisation.
+      assemble_from_scaled();
+      const double eta = std::max(0.05 * options.tolerance,
+                                  std::min(1e-3 * cur.residual, cur.residual * cur.residual));
+      const int cg_iterations = preconditioned_cg(eta, 12);
       for (int i = 0; i < num_interior_; ++i) {
         const int v = interior_vertex_[i];
         trial_[v] = u[v] + step_[i];
       }
       const Eval next = evaluate(l2, trial_, false, false);
-      chord_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+      chord_cost_ = (cg_iterations + 1) * (chol_->solve_flops() + 4.0 * nnz_) + evaluation_cost();
       if (std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual) {
         const double rate = next.residual / cur.residual;
         u.swap(trial_);
@@ -344,9 +433,9 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
         ++rep.chord_steps;
         rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
         // Keep chording while that is expected to be cheaper than a fresh Newton step.
-        const double newton_s = factor_seconds_ + chord_seconds_;
-        try_chord = chord_cost(cur.residual, options.tolerance, rate, chord_seconds_) <=
-                    newton_cost(cur.residual, options.tolerance, newton_c_, newton_s, chord_seconds_);
+        const double newton = factor_cost_ + chord_cost_;
+        try_chord = chord_cost(cur.residual, options.tolerance, rate, chord_cost_) <=
+                    newton_cost(cur.residual, options.tolerance, newton_c_, newton, chord_cost_);
         continue;
       }
       try_chord = false;
@@ -359,15 +448,26 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
       evaluate(l2, u, false, true);
       grad_at_u = true;
     }
-    const auto t0 = Clock::now();
     factorize_with_shift();
-    factor_seconds_ = std::chrono::duration<double>(Clock::now() - t0).count();
+    factor_cost_ = chol_->factor_flops();
     factor_reusable_ = true;
     ++rep.factorizations;
     for (int i = 0; i < num_interior_; ++i) step_[i] = -grad_[i];
     chol_->solve(step_.data(), step_.data());
+    // Far from the solution, faces broken to (pi, 0, 0) make the energy piecewise linear and the
+    // Hessian nearly singular: cap the change of the log-scale factors (e^4 ~ 55x a length).
+    const double longest = step_.cwiseAbs().maxCoeff();
+    if (longest > kMaxStep) step_ *= kMaxStep / longest;
     double slope = 0;  // < 0
-    for (int i = 0; i < num_interior_; ++i) slope -= grad_[i] * step_[i];
+    for (int i = 0; i < num_interior_; ++i) slope += grad_[i] * step_[i];
+    if (!(slope < 0)) {  // numerically singular Hessian: fall back to steepest descent
+      const double gmax = std::max(grad_.cwiseAbs().maxCoeff(), 1e-300);
+      slope = 0;
+      for (int i = 0; i < num_interior_; ++i) {
+        step_[i] = -grad_[i] * (kMaxStep / gmax);
+        slope += grad_[i] * step_[i];
+      }
+    }
     double s = 1.0;
     Eval next;
     for (;;) {
@@ -403,10 +503,10 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
     // Chord steps with this factor contract about as much as this Newton step did.
     if (options.reuse_factorization && s == 1.0 && cur.residual > options.tolerance) {
-      const double step_s = chord_seconds_ > 0 ? chord_seconds_ : 0.3 * factor_seconds_;
-      const double newton_s = factor_seconds_ + step_s;
-      try_chord = chord_cost(cur.residual, options.tolerance, newton_rate, step_s) <=
-                  newton_cost(cur.residual, options.tolerance, newton_c_, newton_s, step_s);
+      const double step = chord_cost_ > 0 ? chord_cost_ : chol_->solve_flops() + evaluation_cost();
+      const double newton = factor_cost_ + step;
+      try_chord = chord_cost(cur.residual, options.tolerance, newton_rate, step) <=
+                  newton_cost(cur.residual, options.tolerance, newton_c_, newton, step);
     }
   }
   rep.residual = cur.residual;

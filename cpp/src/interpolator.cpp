@@ -36,7 +36,9 @@ struct History {
   // extrapolation is well conditioned (sum of |Lagrange weights| <= 20); else the nearest solution;
   // zero (exact at the inputs) without history.
   void predict(const Eigen::VectorXd& w, Eigen::VectorXd& u) const {
-    if (solved.empty()) {
+    // An input shape's own metric is flat: u = 0 reproduces it exactly, in no step.
+    const bool input_shape = (w.array() == 0.0).count() == w.size() - 1;
+    if (solved.empty() || input_shape) {
       u.setZero();
       return;
     }
@@ -98,6 +100,9 @@ struct Interpolator::PieceSolver {
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
   Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}};
+  std::vector<std::unique_ptr<Workspace>> extra;  // workers 1, 2, ... of frames()
+
+  Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
 
   PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
       : piece(std::move(p)),
@@ -212,25 +217,61 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
   }
 }
 
-void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out) {
-  check_weights(w);
-  if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
-  FrameStats st;
+void Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker,
+                               FrameStats& st) {
+  st = FrameStats{};
   st.pieces = static_cast<int>(pieces_.size());
   for (auto& p : pieces_) {
     double flat = 0;
-    const FlattenReport r = p->solve(w, options_.flatten, anchor_, out, &flat);
+    const FlattenReport r = p->solve(p->worker(worker), w, options_.flatten, anchor_, out, &flat);
     st.iterations = std::max(st.iterations, r.iterations);
     st.residual = std::max(st.residual, r.residual);
     st.broken_triangles += r.broken_triangles;
     st.max_broken_triangles += r.max_broken_triangles;
     st.flatness = std::max(st.flatness, flat);
+    st.factorizations += r.factorizations;
+    st.chord_steps += r.chord_steps;
   }
   for (int v : isolated_) {
     out.row(v).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(v) += w[i] * shapes_[i].row(v);
   }
+}
+
+void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_weights(w);
+  if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
+  FrameStats st;
+  solve_frame(w, out, 0, st);
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
+}
+
+void Interpolator::forget() {
+  for (auto& p : pieces_) p->forget();
+}
+
+double Interpolator::floor_seconds(int repeats) {
+  double total = 0;
+  for (auto& p : pieces_) {
+    Flattener& fl = *p->main.flattener;
+    if (fl.num_interior() == 0) continue;
+    const Eigen::VectorXd& l2 = p->l2[options_.base];
+    fl.assemble_hessian(l2, Eigen::VectorXd::Zero(p->piece.mesh.num_vertices()));
+    SparseCholesky& chol = *fl.cholesky();
+    Eigen::VectorXd b = Eigen::VectorXd::Ones(fl.num_interior()), x(fl.num_interior());
+    std::vector<double> times;
+    for (int r = 0; r < std::max(repeats, 1); ++r) {
+      const auto t0 = std::chrono::steady_clock::now();
+      chol.factorize();
+      chol.solve(b.data(), x.data());
+      times.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    }
+    std::nth_element(times.begin(), times.begin() + times.size() / 2, times.end());
+    total += times[times.size() / 2];
+  }
+  return total;
 }
 
 Positions Interpolator::blend(const Eigen::VectorXd& w) {
@@ -250,14 +291,61 @@ Positions Interpolator::at(double t) {
 }
 
 void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> out) {
+  const auto t0 = std::chrono::steady_clock::now();
   if (num_shapes() != 2) throw InvalidInput("frames(ts) needs exactly two shapes");
   const Eigen::Index n = num_vertices();
   if (out.rows() != n * static_cast<Eigen::Index>(ts.size()))
     throw InvalidInput("frames: output must have len(ts) * num_vertices rows");
-  for (size_t j = 0; j < ts.size(); ++j) {
+  for (size_t j = 0; j < ts.size(); ++j)
     if (!std::isfinite(ts[j])) throw InvalidInput("t must be finite (entry " + std::to_string(j) + ")");
-    blend_into(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n));
+  // Contiguous chunks of the sequence, one per worker (each warm-starts along its own chunk); worker 0
+  // takes the last chunk so that this Interpolator's warm-start state ends at ts.back().
+  int workers = threads_ > 0 ? threads_ : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  workers = std::max(1, std::min<int>(workers, static_cast<int>(ts.size() / 4)));
+  for (auto& p : pieces_)
+    for (int k = 1; k < workers; ++k) p->extra.push_back(p->clone_workspace());
+  std::vector<FrameStats> stats(workers);
+  std::vector<std::exception_ptr> errors(workers);
+  auto run = [&](int k) {
+    const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
+    const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;
+    FrameStats acc, st;
+    try {
+      for (size_t j = begin; j < end; ++j) {
+        solve_frame(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n), k, st);
+        acc.iterations = std::max(acc.iterations, st.iterations);
+        acc.residual = std::max(acc.residual, st.residual);
+        acc.broken_triangles = std::max(acc.broken_triangles, st.broken_triangles);
+        acc.max_broken_triangles = std::max(acc.max_broken_triangles, st.max_broken_triangles);
+        acc.flatness = std::max(acc.flatness, st.flatness);
+        acc.factorizations += st.factorizations;
+        acc.chord_steps += st.chord_steps;
+        acc.pieces = st.pieces;
+      }
+    } catch (...) {
+      errors[k] = std::current_exception();
+    }
+    stats[k] = acc;
+  };
+  std::vector<std::thread> threads;
+  for (int k = 1; k < workers; ++k) threads.emplace_back(run, k);
+  run(0);
+  for (auto& th : threads) th.join();
+  for (auto& p : pieces_) p->extra.clear();
+  for (const auto& e : errors)
+    if (e) std::rethrow_exception(e);
+  FrameStats st = stats[0];
+  for (int k = 1; k < workers; ++k) {
+    st.iterations = std::max(st.iterations, stats[k].iterations);
+    st.residual = std::max(st.residual, stats[k].residual);
+    st.broken_triangles = std::max(st.broken_triangles, stats[k].broken_triangles);
+    st.max_broken_triangles = std::max(st.max_broken_triangles, stats[k].max_broken_triangles);
+    st.flatness = std::max(st.flatness, stats[k].flatness);
+    st.factorizations += stats[k].factorizations;
+    st.chord_steps += stats[k].chord_steps;
   }
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  stats_ = st;
 }
 
 Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,

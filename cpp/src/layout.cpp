@@ -69,7 +69,7 @@ Layout::Layout(const Mesh& disk) : mesh_(&disk) {
   root_ = central_face(disk);
   tree_ = dual_tree(disk, root_);
   const int n = disk.num_vertices() - 1;  // vertex 0 is pinned at the origin
-  phi_.resize(disk.num_faces());
+
   local_.resize(disk.num_faces(), 6);
   rhs_.resize(2 * std::max(n, 0));
   if (n <= 0) return;
@@ -110,7 +110,7 @@ std::unique_ptr<Layout> Layout::clone() const {
   copy->tree_ = tree_;
   copy->root_ = root_;
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
-  copy->phi_.resize(phi_.size());
+
   copy->local_.resize(local_.rows(), 6);
   copy->rhs_.resize(rhs_.size());
   return copy;
@@ -122,31 +122,49 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
   const Faces& FE = m.face_edges();
   if (l2.size() != m.num_edges()) throw InvalidInput("layout: l2 must have one entry per edge");
   // Corner coordinates of each face in its own frame: corner 0 at the origin, corner 1 on +x.
+  // No trigonometry: corner 2 = (l02 cos a0, l02 sin a0) = ((l01^2 + l02^2 - l12^2), 4 area) / (2 l01).
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
-    const TriangleAngles t = triangle_angles(fl2);
-    const double l01 = std::sqrt(fl2[2]), l02 = std::sqrt(fl2[1]);
-    local_.row(f) << 0.0, 0.0, l01, 0.0, l02 * std::cos(t.angle[0]), l02 * std::sin(t.angle[0]);
+    const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
+    const double xa = l[1] + l[2] - l[0], xb = l[0] + l[2] - l[1], xc = l[0] + l[1] - l[2];
+    double cx, cy;
+    if (xa > 0 && xb > 0 && xc > 0) {
+      const double half_inv = 0.5 / l[2];
+      cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
+      cy = std::sqrt((l[0] + l[1] + l[2]) * xa * xb * xc) * half_inv;
+    } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
+      const bool pi_at_0 = l[0] >= l[1] && l[0] >= l[2];
+      cx = pi_at_0 ? -l[1] : l[1];
+      cy = 0.0;
+    }
+    local_.row(f) << 0.0, 0.0, l[2], 0.0, cx, cy;
   }
   auto corner = [&](int f, int c) { return Eigen::Vector2d(local_(f, 2 * c), local_(f, 2 * c + 1)); };
   auto corner_of = [&](int f, int v) {
     return F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2);
   };
-  // Rotations: the shared edge a->b must point the same way seen from both faces.
-  phi_[root_] = 0.0;
+  // Rotations as unit complex numbers (cos, sin): the shared edge a->b must point the same way seen
+  // from both faces, i.e. rot_g = rot_f * df * conj(dg) / (|df| |dg|).
+  rot_.resize(F.rows(), 2);
+  rot_.row(root_) << 1.0, 0.0;
   for (size_t k = 1; k < tree_.size(); ++k) {
     const auto [g, f, e] = tree_[k];
     const int a = m.edges()(e, 0), b = m.edges()(e, 1);
     const Eigen::Vector2d df = corner(f, corner_of(f, b)) - corner(f, corner_of(f, a));
     const Eigen::Vector2d dg = corner(g, corner_of(g, b)) - corner(g, corner_of(g, a));
-    phi_[g] = phi_[f] + std::atan2(df.y(), df.x()) - std::atan2(dg.y(), dg.x());
+    // q = df * conj(dg)
+    const double qr = df.x() * dg.x() + df.y() * dg.y(), qi = df.y() * dg.x() - df.x() * dg.y();
+    const double fr = rot_(f, 0), fi = rot_(f, 1);
+    double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
+    const double inv = 1.0 / std::sqrt(zr * zr + zi * zi);
+    rot_.row(g) << zr * inv, zi * inv;
   }
   Positions X = Positions::Zero(m.num_vertices(), 2);
   const int n = m.num_vertices() - 1;
   if (n > 0) {
     rhs_.setZero();
     for (int f = 0; f < F.rows(); ++f) {
-      const double c = std::cos(phi_[f]), s = std::sin(phi_[f]);
+      const double c = rot_(f, 0), s = rot_(f, 1);
       for (int k = 0; k < 3; ++k) {
         const int ka = (k + 1) % 3, kb = (k + 2) % 3;
         const Eigen::Vector2d d = corner(f, kb) - corner(f, ka);

@@ -81,6 +81,8 @@ class Flattener {
   // The Hessian values at the scaled lengths left in scaled_l2_ by the last evaluate (no angles).
   void assemble_from_scaled() const;
   void factorize_with_shift();
+  void hessian_times(const double* x, double* y) const;  // the values in the solver times x
+  int preconditioned_cg(double eta, int max_iterations);
 
   explicit Flattener(const Mesh* mesh) : mesh_(mesh) {}
 
@@ -96,10 +98,13 @@ class Flattener {
   mutable Eigen::VectorXd scaled_l2_; // #E, scratch
   mutable Eigen::VectorXd exp_u_;     // #V, scratch
   bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
-  double factor_seconds_ = 0;         // measured cost of a factorisation and of a chord step
-  double chord_seconds_ = 0;
+  double factor_cost_ = 0;            // estimated flops of a factorisation and of a chord step
+  double chord_cost_ = 0;
+  double evaluation_cost() const;
   double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
   Eigen::VectorXd step_, trial_;      // scratch
+  Eigen::VectorXd cg_r_, cg_z_, cg_p_, cg_q_;
+  std::vector<int> col_ptr_, rows_;   // pattern of the lower triangle (for products)
 };
 
 // One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.

@@ -48,7 +48,10 @@ class Interpolator {
   // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
   Positions blend(const Eigen::VectorXd& w);
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
-  // Each frame is warm-started from the frames before it.
+  // The sequence is cut into contiguous chunks solved in parallel (see set_threads); each frame is
+  // warm-started from the frames before it in its chunk. Afterwards last_stats() aggregates over
+  // all frames: the largest iterations/residual/flatness, summed factorisations and chord steps,
+  // and the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
 
@@ -61,8 +64,8 @@ class Interpolator {
   // solve of the interior cotan Laplacian of the base shape, summed over pieces (symbolic analysis
   // reused). Leaves the warm-start history untouched but invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
-  // Worker threads used by frames() (default: std::thread::hardware_concurrency(), at most 2 per
-  // ... see frames). 1 = sequential.
+  // Worker threads used by frames(): 0 (default) = std::thread::hardware_concurrency(), 1 =
+  // sequential; never more than one per 4 frames.
   void set_threads(int n) { threads_ = n; }
   int threads() const { return threads_; }
   const Faces& faces() const { return F_; }
@@ -70,6 +73,7 @@ class Interpolator {
  private:
   struct PieceSolver;
   void check_weights(const Eigen::VectorXd& w) const;
+  void solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker, FrameStats& st);
 
   std::vector<Positions> shapes_;
   Faces F_;

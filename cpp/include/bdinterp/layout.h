@@ -36,7 +36,8 @@ class Layout {
   std::vector<std::array<int, 3>> tree_;
   int root_ = 0;
   std::unique_ptr<SparseCholesky> chol_;  // half-edge Laplacian with vertex 0 removed
-  Eigen::VectorXd phi_;                   // #F scratch: face rotations
+  Eigen::VectorXd phi_;                   // (unused, kept for layout compatibility)
+  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rot_;  // #F scratch: (cos, sin) per face
   Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> local_;  // #F scratch: corner coords
   Eigen::VectorXd rhs_;                   // 2 (#V - 1) scratch
 };

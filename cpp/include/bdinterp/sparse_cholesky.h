@@ -25,6 +25,10 @@ class SparseCholesky {
   SparseCholesky clone() const;
 
   int size() const;
+  // Operation counts from the symbolic analysis: a numeric factorisation, and one solve (4 nnz(L)).
+  // Deterministic cost estimates for choosing between refactorising and reusing a factor.
+  double factor_flops() const;
+  double solve_flops() const;
   // The numeric values, in the order of row_idx; write them, then call factorize().
   double* values();
   // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
