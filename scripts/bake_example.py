@@ -101,6 +101,7 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "out"))
     ap.add_argument("--resolution", type=int, default=256)
     args = ap.parse_args(argv)
+    args.out = os.path.abspath(args.out)  # Blender's save operator wants absolute paths
     os.makedirs(args.out, exist_ok=True)
     addon = import_addon()
 
