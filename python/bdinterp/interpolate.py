@@ -58,9 +58,12 @@ class Interpolator:
     shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in one plane); faces: (m, 3) ints.
     anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a vertex index
     (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start from.
+    tol: convergence tolerance on max |2 pi - angle sum|; threads: workers of frames() (0 = all
+    cores). Not thread-safe: use one Interpolator per thread.
     """
 
-    def __init__(self, shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50):
+    def __init__(self, shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50,
+                 threads=0):
         shapes2d, self._plane = _validate.planar_shapes(shapes, base)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
@@ -68,6 +71,7 @@ class Interpolator:
         kwargs = _anchor_arguments(anchor, self._n, self._plane)
         self._core = _core.Interpolator(shapes2d, f, base=base, tolerance=tol,
                                         max_iterations=max_iterations, **kwargs)
+        self.threads = threads
 
     def _out(self, uv):
         return uv if self._plane is None else self._plane.to_space(uv)
@@ -89,8 +93,21 @@ class Interpolator:
         return self._out(out.reshape(ts.size, self._n, 2))
 
     @property
+    def threads(self):
+        """Worker threads of frames() (0 = one per core, 1 = sequential)."""
+        return self._core.threads
+
+    @threads.setter
+    def threads(self, n):
+        if int(n) < 0:
+            raise ValueError(f"threads must be >= 0, got {n}")
+        self._core.threads = int(n)
+
+    @property
     def stats(self):
-        """Statistics of the last solve: iterations, residual, broken_triangles, flatness, pieces."""
+        """Statistics of the last at()/blend() (or of all frames of the last frames()): iterations,
+        residual (max |2 pi - angle sum|), broken_triangles, max_broken_triangles, flatness,
+        pieces, factorizations, chord_steps, seconds."""
         return self._core.stats
 
 

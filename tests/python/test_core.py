@@ -324,3 +324,15 @@ def test_pieces_without_interior_vertices():
     F = [[0, 1, 2], [1, 3, 2]]
     X = bdinterp.interpolate(V, V * [3, 1], F, 0.5)
     np.testing.assert_allclose(edge_lengths(X, np.array(F)), edge_lengths(V * [np.sqrt(5), 1], np.array(F)))
+
+
+def test_parallel_frames_match_sequential_frames(disk):
+    V, F = disk
+    T = meshes.apply_map("phi2", V)
+    ts = np.linspace(0, 1, 17)
+    one = bdinterp.Interpolator([V, T], F, threads=1).frames(ts)
+    two = bdinterp.Interpolator([V, T], F, threads=2).frames(ts)
+    # Different warm starts, same solution to the solver's tolerance.
+    assert np.abs(one - two).max() < 1e-8 * np.abs(one).max()
+    with pytest.raises(ValueError, match="threads"):
+        bdinterp.Interpolator([V, T], F, threads=-1)
