@@ -86,76 +86,18 @@ std::unique_ptr<Flattener> Flattener::clone() const {
 
 namespace {
 
-// 2 atan2(y, x) for y, x > 0, accurate to about 2 ulps (Cephes' atan: range reduction to
-// |z| <= 0.66 and a rational approximation), several times faster than std::atan2.
-[[maybe_unused]] inline double twice_atan2_positive(double y, double x) {
-  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
-  constexpr double kMoreBits = 6.123233995736765886130e-17, kT3p8 = 2.41421356237309504880;
-  double base, z, extra;
-  if (y > kT3p8 * x) {  // never taken for the two smaller angles of a triangle (y <= x)
-    base = kPio2;
-    z = -x / y;
-    extra = kMoreBits;
-  } else {  // written as selects so that the compiler need not branch
-    const bool mid = y > 0.66 * x;
-    const double num = mid ? y - x : y, den = mid ? y + x : x;
-    base = mid ? kPio4 : 0.0;
-    extra = mid ? 0.5 * kMoreBits : 0.0;
-    z = num / den;
+// Adds the cotan weights of one face to the Hessian values H (lower triangle, interior rows).
+inline void scatter_cotangents(const double cot[3], const int corners[3], const int edges[3],
+                               const std::vector<int>& interior_index, const std::vector<int>& diag_pos,
+                               const std::vector<int>& edge_pos, double* H) {
+  for (int c = 0; c < 3; ++c) {
+    const double w = 0.5 * cot[c];
+    const int a = interior_index[corners[(c + 1) % 3]], b = interior_index[corners[(c + 2) % 3]];
+    if (a >= 0) H[diag_pos[a]] += w;
+    if (b >= 0) H[diag_pos[b]] += w;
+    const int p = edge_pos[edges[c]];
+    if (p >= 0) H[p] -= w;
   }
-  const double zz = z * z;
-  const double p = (((-8.750608600031904122785e-1 * zz - 1.615753718733365076637e1) * zz -
-                     7.500855792314704667340e1) * zz - 1.228866684490136173410e2) * zz -
-                   6.485021904942025371773e1;
-  const double q = ((((zz + 2.485846490142306297962e1) * zz + 1.650270098316988542046e2) * zz +
-                     4.328810604912902668951e2) * zz + 4.853903996359136964868e2) * zz +
-                   1.945506571482613964425e2;
-  return 2.0 * (base + (z + z * (zz * p / q) + extra));
-}
-
-// Angles (and optionally cotangents) of a triangle from its squared edge lengths, with the CETM
-// convention of triangle.h for broken triples. Two atan2 per face: the largest angle (opposite the
-// longest edge) is pi minus the other two, which costs at most a few ulps of pi in absolute terms.
-inline bool face_angles(const double l2[3], double angle[3], double* cot) {
-  constexpr double kPi = 3.14159265358979323846;
-  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
-  const double x[3] = {l[1] + l[2] - l[0], l[0] + l[2] - l[1], l[0] + l[1] - l[2]};
-  const int longest = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
-  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
-    for (int k = 0; k < 3; ++k) angle[k] = k == longest ? kPi : 0.0;
-    if (cot) cot[0] = cot[1] = cot[2] = 0.0;
-    return true;
-  }
-  const double s = l[0] + l[1] + l[2];
-  const int i = (longest + 1) % 3, j = (longest + 2) % 3;
-  // Half-angle formula: accurate for needle and cap triangles alike.
-  // (twice_atan2_positive is ~2x faster and as accurate, but its last-ulp differences changed the
-  // path of slow, broken-triangle solves; kept for experiments, std::atan2 used.)
-  angle[i] = 2 * std::atan2(std::sqrt(x[j] * x[longest]), std::sqrt(s * x[i]));
-  angle[j] = 2 * std::atan2(std::sqrt(x[i] * x[longest]), std::sqrt(s * x[j]));
-  angle[longest] = kPi - angle[i] - angle[j];
-  if (cot) {
-    const double inv = 1.0 / std::sqrt(s * x[0] * x[1] * x[2]);  // 1 / (4 area)
-    cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
-    cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
-    cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
-  }
-  return false;
-}
-
-// Cotangents only (no angles), 0 for broken triangles.
-inline bool face_cotangents(const double l2[3], double cot[3]) {
-  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
-  const double x0 = l[1] + l[2] - l[0], x1 = l[0] + l[2] - l[1], x2 = l[0] + l[1] - l[2];
-  if (!(x0 > 0 && x1 > 0 && x2 > 0)) {
-    cot[0] = cot[1] = cot[2] = 0.0;
-    return true;
-  }
-  const double inv = 1.0 / std::sqrt((l[0] + l[1] + l[2]) * x0 * x1 * x2);
-  cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
-  cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
-  cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
-  return false;
 }
 
 }  // namespace
@@ -179,7 +121,7 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
   double angle[3], cot[3];
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
-    const bool broken = face_angles(fl2, angle, H ? cot : nullptr);
+    const bool broken = triangle_angles(fl2, angle, H ? cot : nullptr);
     ev.broken += broken;
     for (int c = 0; c < 3; ++c) {
       const int vi = interior_index_[F(f, c)];
@@ -191,16 +133,7 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
         energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - kHalfPi * lambda;
       }
     }
-    if (H && !broken) {
-      for (int c = 0; c < 3; ++c) {
-        const double w = 0.5 * cot[c];
-        const int a = interior_index_[F(f, (c + 1) % 3)], b = interior_index_[F(f, (c + 2) % 3)];
-        if (a >= 0) H[diag_pos_[a]] += w;
-        if (b >= 0) H[diag_pos_[b]] += w;
-        const int p = edge_pos_[FE(f, c)];
-        if (p >= 0) H[p] -= w;
-      }
-    }
+    if (H && !broken) scatter_cotangents(cot, &F(f, 0), &FE(f, 0), interior_index_, diag_pos_, edge_pos_, H);
   }
   if (want_energy) {
     for (int i = 0; i < num_interior_; ++i) energy += kTwoPi * u[interior_vertex_[i]];
@@ -218,15 +151,7 @@ void Flattener::assemble_from_scaled() const {
   double cot[3];
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
-    if (face_cotangents(fl2, cot)) continue;
-    for (int c = 0; c < 3; ++c) {
-      const double w = 0.5 * cot[c];
-      const int a = interior_index_[F(f, (c + 1) % 3)], b = interior_index_[F(f, (c + 2) % 3)];
-      if (a >= 0) H[diag_pos_[a]] += w;
-      if (b >= 0) H[diag_pos_[b]] += w;
-      const int p = edge_pos_[FE(f, c)];
-      if (p >= 0) H[p] -= w;
-    }
+    if (!triangle_cotangents(fl2, cot)) scatter_cotangents(cot, &F(f, 0), &FE(f, 0), interior_index_, diag_pos_, edge_pos_, H);
   }
 }
 
@@ -260,17 +185,17 @@ Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
   std::vector<Eigen::Triplet<double>> trip;
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {s[FE(f, 0)], s[FE(f, 1)], s[FE(f, 2)]};
-    const TriangleAngles t = triangle_angles(fl2);
-    if (t.broken) continue;
+    double cot[3];
+    if (triangle_cotangents(fl2, cot)) continue;
     for (int c = 0; c < 3; ++c) {
       const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
       if (interior_index_[a] < 0 || interior_index_[b] < 0) {
         // Boundary rows/columns are fixed (u = 0): keep only the interior diagonal part.
-        if (interior_index_[a] >= 0) trip.emplace_back(a, a, 0.5 * t.cot[c]);
-        if (interior_index_[b] >= 0) trip.emplace_back(b, b, 0.5 * t.cot[c]);
+        if (interior_index_[a] >= 0) trip.emplace_back(a, a, 0.5 * cot[c]);
+        if (interior_index_[b] >= 0) trip.emplace_back(b, b, 0.5 * cot[c]);
         continue;
       }
-      const double w = 0.5 * t.cot[c];
+      const double w = 0.5 * cot[c];
       trip.emplace_back(a, a, w);
       trip.emplace_back(b, b, w);
       trip.emplace_back(a, b, -w);

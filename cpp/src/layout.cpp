@@ -126,15 +126,15 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
   for (int f = 0; f < F.rows(); ++f) {
     const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
     const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
-    const double xa = l[1] + l[2] - l[0], xb = l[0] + l[2] - l[1], xc = l[0] + l[1] - l[2];
+    double x[3];
+    const int longest = excesses(l, x);
     double cx, cy;
-    if (xa > 0 && xb > 0 && xc > 0) {
+    if (x[0] > 0 && x[1] > 0 && x[2] > 0) {
       const double half_inv = 0.5 / l[2];
       cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
-      cy = std::sqrt((l[0] + l[1] + l[2]) * xa * xb * xc) * half_inv;
+      cy = std::sqrt((l[0] + l[1] + l[2]) * x[0] * x[1] * x[2]) * half_inv;
     } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
-      const bool pi_at_0 = l[0] >= l[1] && l[0] >= l[2];
-      cx = pi_at_0 ? -l[1] : l[1];
+      cx = longest == 0 ? -l[1] : l[1];
       cy = 0.0;
     }
     local_.row(f) << 0.0, 0.0, l[2], 0.0, cx, cy;

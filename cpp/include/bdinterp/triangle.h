@@ -3,40 +3,92 @@
 // zero cotangents (Springborn et al. 2008, Sec. 4.2), so callers never see NaN.
 #pragma once
 
-#include <algorithm>
 #include <cmath>
 
 namespace bdinterp {
 
-struct TriangleAngles {
-  double angle[3];  // angle[c] at corner c, opposite edge c
-  double cot[3];
-  bool broken;  // the triangle inequality fails (or holds with equality)
-};
-
-// l2[c]: squared length of the edge opposite corner c (> 0).
-inline TriangleAngles triangle_angles(const double l2[3]) {
-  constexpr double kPi = 3.14159265358979323846;
-  TriangleAngles t{};
-  const double a = std::sqrt(l2[0]), b = std::sqrt(l2[1]), c = std::sqrt(l2[2]);
-  const double xa = b + c - a, xb = a + c - b, xc = a + b - c;
-  if (!(xa > 0 && xb > 0 && xc > 0)) {
-    const int longest = (a >= b && a >= c) ? 0 : (b >= c ? 1 : 2);
-    for (int k = 0; k < 3; ++k) t.angle[k] = k == longest ? kPi : 0.0;
-    t.broken = true;
-    return t;
+// atan(y / x) for y, x > 0, within ~2 ulps: Cephes' atan (range reduction to |z| <= 0.66, then a
+// rational approximation). Several times faster than std::atan2, which rounds correctly and is the
+// hot spot of every Newton step otherwise.
+inline double atan_positive(double y, double x) {
+  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
+  constexpr double kMoreBits = 6.123233995736765886130e-17, kT3p8 = 2.41421356237309504880;
+  double base, z, extra;
+  if (y > kT3p8 * x) {
+    base = kPio2;
+    z = -x / y;
+    extra = kMoreBits;
+  } else {
+    const bool mid = y > 0.66 * x;
+    base = mid ? kPio4 : 0.0;
+    extra = mid ? 0.5 * kMoreBits : 0.0;
+    z = mid ? (y - x) / (y + x) : y / x;
   }
-  const double s = a + b + c;
-  // Half-angle formula: accurate for needle and cap triangles alike.
-  t.angle[0] = 2 * std::atan2(std::sqrt(xb * xc), std::sqrt(s * xa));
-  t.angle[1] = 2 * std::atan2(std::sqrt(xa * xc), std::sqrt(s * xb));
-  t.angle[2] = 2 * std::atan2(std::sqrt(xa * xb), std::sqrt(s * xc));
-  const double four_area = std::sqrt(s * xa * xb * xc);  // 4 * area
-  t.cot[0] = (l2[1] + l2[2] - l2[0]) / four_area;
-  t.cot[1] = (l2[0] + l2[2] - l2[1]) / four_area;
-  t.cot[2] = (l2[0] + l2[1] - l2[2]) / four_area;
-  t.broken = false;
-  return t;
+  const double zz = z * z;
+  const double p = (((-8.750608600031904122785e-1 * zz - 1.615753718733365076637e1) * zz -
+                     7.500855792314704667340e1) * zz - 1.228866684490136173410e2) * zz -
+                   6.485021904942025371773e1;
+  const double q = ((((zz + 2.485846490142306297962e1) * zz + 1.650270098316988542046e2) * zz +
+                     4.328810604912902668951e2) * zz + 4.853903996359136964868e2) * zz +
+                   1.945506571482613964425e2;
+  return base + (z + z * (zz * p / q) + extra);
+}
+
+// x[k] = l[i] + l[j] - l[k] for the lengths l of a triangle, grouped as in Kahan's area formula so
+// that the differences of nearly equal lengths are exact (needles keep their accuracy). Returns the
+// index of the longest edge.
+inline int excesses(const double l[3], double x[3]) {
+  const int a = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
+  const int b = l[(a + 1) % 3] >= l[(a + 2) % 3] ? (a + 1) % 3 : (a + 2) % 3;
+  const int c = 3 - a - b;  // l[a] >= l[b] >= l[c]
+  x[a] = l[c] - (l[a] - l[b]);
+  x[b] = l[c] + (l[a] - l[b]);
+  x[c] = l[a] + (l[b] - l[c]);
+  return a;
+}
+
+// l2[c]: squared length of the edge opposite corner c (> 0). Writes angle[c] (at corner c) and, if
+// `cot` is given, the cotangents. Returns true for a broken triple.
+inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  double x[3];
+  const int longest = excesses(l, x);
+  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
+    for (int k = 0; k < 3; ++k) angle[k] = k == longest ? kPi : 0.0;
+    if (cot) cot[0] = cot[1] = cot[2] = 0.0;
+    return true;
+  }
+  const double s = l[longest] + (l[(longest + 1) % 3] + l[(longest + 2) % 3]);
+  // Half-angle formula (accurate for needles and caps alike) for the two smaller angles; the
+  // largest is pi minus them, off by a few ulps of pi at most.
+  const int i = (longest + 1) % 3, j = (longest + 2) % 3;
+  angle[i] = 2 * atan_positive(std::sqrt(x[j] * x[longest]), std::sqrt(s * x[i]));
+  angle[j] = 2 * atan_positive(std::sqrt(x[i] * x[longest]), std::sqrt(s * x[j]));
+  angle[longest] = kPi - angle[i] - angle[j];
+  if (cot) {
+    const double inv = 1.0 / std::sqrt(s * x[0] * x[1] * x[2]);  // 1 / (4 area)
+    cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
+    cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
+    cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
+  }
+  return false;
+}
+
+// Cotangents only (the Hessian needs no angles); zeros and true for a broken triple.
+inline bool triangle_cotangents(const double l2[3], double cot[3]) {
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  double x[3];
+  excesses(l, x);
+  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
+    cot[0] = cot[1] = cot[2] = 0.0;
+    return true;
+  }
+  const double inv = 1.0 / std::sqrt((l[0] + l[1] + l[2]) * x[0] * x[1] * x[2]);
+  cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
+  cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
+  cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
+  return false;
 }
 
 }  // namespace bdinterp
