@@ -9,6 +9,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "bdinterp/triangle.h"
+
 namespace bdinterp {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
@@ -59,7 +61,7 @@ Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
   Eigen::VectorXd rot(F.rows());
   for (const auto& [f, parent, e] : tree_) {
     const Eigen::Matrix2d J = edge_matrix(X, F, f) * base_inverse_[f];
-    const double raw = std::atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
+    const double raw = fast_atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
     rot[f] = parent < 0 ? raw : rot[parent] + wrap(raw - rot[parent]);
   }
   return rot;

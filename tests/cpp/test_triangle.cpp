@@ -18,6 +18,14 @@ TEST(Triangle, FastArctangentMatchesTheLibraryToTwoUlps) {
     worst = std::max(worst, std::abs(atan_positive(y, x) - exact) / exact);
   }
   EXPECT_LT(worst, 4.5e-16);
+  // All four quadrants and the axes.
+  for (int k = 0; k < 100000; ++k) {
+    const double y = std::sin(0.001 * k) * std::pow(10.0, exponent(rng));
+    const double x = std::cos(0.001 * k) * std::pow(10.0, exponent(rng));
+    EXPECT_NEAR(fast_atan2(y, x), std::atan2(y, x), 1e-15) << y << " " << x;
+  }
+  for (double y : {-1.0, 0.0, 1.0})
+    for (double x : {-1.0, 0.0, 1.0}) EXPECT_NEAR(fast_atan2(y, x), std::atan2(y, x), 1e-15);
 }
 
 TEST(Triangle, AnglesAndCotangentsOfKnownTriangles) {

@@ -47,6 +47,21 @@ inline int excesses(const double l[3], double x[3]) {
   return a;
 }
 
+// atan2(y, x) for any signs, from atan_positive (same accuracy, same speed).
+inline double fast_atan2(double y, double x) {
+  constexpr double kPi = 3.14159265358979323846, kPio2 = 1.57079632679489661923;
+  const double ay = std::abs(y);
+  double a;
+  if (x > 0) {
+    a = atan_positive(ay, x);
+  } else if (x < 0) {
+    a = kPi - atan_positive(ay, -x);
+  } else {
+    a = ay > 0 ? kPio2 : 0.0;
+  }
+  return std::signbit(y) ? -a : a;
+}
+
 // l2[c]: squared length of the edge opposite corner c (> 0). Writes angle[c] (at corner c) and, if
 // `cot` is given, the cotangents. Returns true for a broken triple.
 inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
