@@ -45,11 +45,10 @@ test: test-cpp test-python test-blender   ## everything CI runs
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py
 
-bench: setup      ## speed table (see docs/BENCHMARKS.md)
-	cmake -S . -B $(BUILD) -DBDINTERP_BENCH=ON -DPython_EXECUTABLE=$(PYTHON) \
-	      -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
-	cmake --build $(BUILD) -j $(JOBS) --target bdinterp_bench
-	$(BUILD)/bdinterp_bench
+bench: setup      ## speed table (docs/BENCHMARKS.md); BENCH_ARGS="--sizes=5000 --reps=3" for a short run
+	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DBDINTERP_BENCH=ON -DBDINTERP_PYTHON=OFF -DBDINTERP_TESTS=OFF
+	cmake --build build-bench -j $(JOBS) --target bdinterp_bench
+	build-bench/bdinterp_bench $(or $(BENCH_ARGS),--sizes=5000,50000,500000 --reps=3)
 
 clean:
-	rm -rf $(BUILD) dist out
+	rm -rf $(BUILD) build-bench dist out
