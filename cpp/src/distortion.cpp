@@ -57,6 +57,11 @@ Eigen::VectorXd conformal_distortion(const Eigen::Ref<const Positions>& source,
   return K;
 }
 
+int flipped_faces(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
+                  const Eigen::Ref<const Faces>& F) {
+  return static_cast<int>((area_ratio(source, result, F).array() <= 0.0).count());
+}
+
 Eigen::VectorXd area_ratio(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
                            const Eigen::Ref<const Faces>& F) {
   Eigen::VectorXd a(F.rows());

@@ -25,6 +25,11 @@ def conformal_distortion(source, result, faces):
     return _core.conformal_distortion(*_pair(source, result, faces))
 
 
+def flipped_faces(source, result, faces):
+    """Number of faces of `result` flipped (or collapsed) relative to `source`."""
+    return _core.flipped_faces(*_pair(source, result, faces))
+
+
 def area_ratio(source, result, faces):
     """(m,) signed area(result) / area(source) per face; negative where the result is flipped."""
     return _core.area_ratio(*_pair(source, result, faces))

@@ -196,6 +196,8 @@ TEST(Distortion, AnalyticValues) {
   Positions mirrored = m.V;
   mirrored.col(0) *= -1;
   EXPECT_LT(area_ratio(m.V, mirrored, m.F).maxCoeff(), 0.0);
+  EXPECT_EQ(flipped_faces(m.V, mirrored, m.F), m.F.rows());
+  EXPECT_EQ(flipped_faces(m.V, X, m.F), 0);
 }
 
 }  // namespace

@@ -336,3 +336,13 @@ def test_parallel_frames_match_sequential_frames(disk):
     assert np.abs(one - two).max() < 1e-8 * np.abs(one).max()
     with pytest.raises(ValueError, match="threads"):
         bdinterp.Interpolator([V, T], F, threads=-1)
+
+
+def test_flipped_faces_counts_reflected_faces(disk):
+    V, F = disk
+    mirrored = V * [-1, 1]
+    assert bdinterp.flipped_faces(V, V * [2, 1], F) == 0
+    assert bdinterp.flipped_faces(V, mirrored, F) == len(F)
+    partly = V.copy()
+    partly[F[0, 0]] = V[F[0, 1]]  # collapses the faces around that edge
+    assert bdinterp.flipped_faces(V, partly, F) >= 1

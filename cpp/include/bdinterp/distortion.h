@@ -13,6 +13,10 @@ Eigen::VectorXd conformal_distortion(const Eigen::Ref<const Positions>& source,
                                      const Eigen::Ref<const Positions>& result,
                                      const Eigen::Ref<const Faces>& F);
 
+// Number of faces whose orientation in `result` is opposite to (or collapsed from) that in `source`.
+int flipped_faces(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
+                  const Eigen::Ref<const Faces>& F);
+
 // #F signed area ratio area(result) / area(source); negative where the result face is flipped.
 Eigen::VectorXd area_ratio(const Eigen::Ref<const Positions>& source, const Eigen::Ref<const Positions>& result,
                            const Eigen::Ref<const Faces>& F);
