@@ -27,21 +27,17 @@ double wrap(double a) { return std::remainder(a, 2 * kPi); }  // to [-pi, pi]
 }  // namespace
 
 AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
-    : mesh_(&disk), vertex_(vertex) {
+    : mesh_(&disk), vertex_(vertex), base_(base) {
   const Faces& F = disk.faces();
-  base_inverse_.resize(F.rows());
-  weight_ = Eigen::VectorXd::Zero(F.rows());
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::Matrix2d D = edge_matrix(base, F, f);
-    base_inverse_[f] = D.inverse();
-    const bool in_region = vertex < 0 || F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex;
-    if (in_region) weight_[f] = 0.5 * std::abs(D.determinant());
+  if (vertex >= 0) {
+    for (int f = 0; f < F.rows(); ++f)
+      if (F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex) region_.push_back(f);
   }
   // Unwrapping order: breadth-first over the dual graph from face 0.
   std::vector<bool> seen(F.rows(), false);
   std::deque<int> queue{0};
   seen[0] = true;
-  tree_.push_back({0, -1, -1});
+  tree_.push_back({0, -1});
   while (!queue.empty()) {
     const int f = queue.front();
     queue.pop_front();
@@ -50,25 +46,51 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
       const int g = disk.edge_faces()(e, 0) == f ? disk.edge_faces()(e, 1) : disk.edge_faces()(e, 0);
       if (g < 0 || seen[g]) continue;
       seen[g] = true;
-      tree_.push_back({g, f, e});
+      tree_.push_back({g, f});
       queue.push_back(g);
     }
   }
 }
 
+double AnchorFrame::base_area(int f) const {
+  const Faces& F = mesh_->faces();
+  const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
+  const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
+  return 0.5 * std::abs(b1.x() * b2.y() - b1.y() * b2.x());
+}
+
 Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
   const Faces& F = mesh_->faces();
   Eigen::VectorXd rot(F.rows());
-  for (const auto& [f, parent, e] : tree_) {
-    const Eigen::Matrix2d J = edge_matrix(X, F, f) * base_inverse_[f];
-    const double raw = fast_atan2(J(1, 0) - J(0, 1), J(0, 0) + J(1, 1));
+  for (const auto& [f, parent] : tree_) {
+    // The affine map J (base edges b_k -> edges e_k) written as J z = a z + b conj(z): its closest
+    // rotation is arg(a), with a = (e1 conj(b2) - e2 conj(b1)) / (b1 conj(b2) - b2 conj(b1)) and
+    // the denominator = -2i cross(b1, b2). No inverse matrices need to be stored.
+    const Eigen::RowVector2d e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
+    const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
+    const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
+    const double num_re = (e1.x() * b2.x() + e1.y() * b2.y()) - (e2.x() * b1.x() + e2.y() * b1.y());
+    const double num_im = (e1.y() * b2.x() - e1.x() * b2.y()) - (e2.y() * b1.x() - e2.x() * b1.y());
+    const double s = b1.x() * b2.y() - b1.y() * b2.x() < 0 ? -1.0 : 1.0;
+    const double raw = fast_atan2(s * num_re, -s * num_im);
     rot[f] = parent < 0 ? raw : rot[parent] + wrap(raw - rot[parent]);
   }
   return rot;
 }
 
 double AnchorFrame::region_angle(const Eigen::VectorXd& rot) const {
-  return rot.dot(weight_) / weight_.sum();
+  double sum = 0, total = 0;
+  auto add = [&](int f) {
+    const double w = base_area(f);
+    sum += w * rot[f];
+    total += w;
+  };
+  if (region_.empty()) {
+    for (int f = 0; f < rot.size(); ++f) add(f);
+  } else {
+    for (int f : region_) add(f);
+  }
+  return sum / total;
 }
 
 Eigen::Vector2d AnchorFrame::point_of(const Positions& X) const {
@@ -90,8 +112,7 @@ Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
   std::iota(order.begin(), order.end(), 0);
   std::sort(order.begin(), order.end(), [&](int a, int b) { return rot[a] < rot[b]; });
   Eigen::VectorXd area(rot.size());
-  const Faces& F = mesh_->faces();
-  for (int f = 0; f < F.rows(); ++f) area[f] = std::abs(1.0 / base_inverse_[f].determinant());
+  for (int f = 0; f < rot.size(); ++f) area[f] = base_area(f);
   double half = 0.5 * area.sum(), acc = 0, median = rot[order.back()];
   for (int f : order) {
     acc += area[f];

@@ -14,10 +14,16 @@ constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
 }  // namespace
 
-Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
+void scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
+                   Eigen::VectorXd& out) {
   const Edges& E = mesh.edges();
-  Eigen::VectorXd out(E.rows());
+  out.resize(E.rows());
   for (int e = 0; e < E.rows(); ++e) out[e] = l2[e] * std::exp(u[E(e, 0)] + u[E(e, 1)]);
+}
+
+Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
+  Eigen::VectorXd out;
+  scale_lengths(mesh, l2, u, out);
   return out;
 }
 
@@ -57,8 +63,6 @@ Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
   }
   nnz_ = static_cast<int>(rows.size());
   chol_ = std::make_unique<SparseCholesky>(num_interior_, col_ptr, rows);
-  col_ptr_ = std::move(col_ptr);
-  rows_ = std::move(rows);
 }
 
 Flattener::Flattener(Flattener&&) noexcept = default;
@@ -75,8 +79,6 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
   copy->grad_.resize(num_interior_);
   copy->scaled_l2_.resize(scaled_l2_.size());
-  copy->col_ptr_ = col_ptr_;
-  copy->rows_ = rows_;
   copy->factor_reusable_ = factor_reusable_ && chol_;
   copy->factor_cost_ = factor_cost_;
   copy->chord_cost_ = chord_cost_;
@@ -228,14 +230,17 @@ void Flattener::factorize_with_shift() {
 }
 
 void Flattener::hessian_times(const double* x, double* y) const {
-  const double* H = chol_->values();
+  const SparseCholesky& chol = *chol_;
+  const double* H = chol.values();
+  const int* col_ptr = chol.column_pointers();
+  const int* rows = chol.row_indices();
   std::fill_n(y, num_interior_, 0.0);
   for (int j = 0; j < num_interior_; ++j) {
-    const int p0 = col_ptr_[j], p1 = col_ptr_[j + 1];
+    const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
     double acc = H[p0] * x[j];  // diagonal first in every column
     const double xj = x[j];
     for (int p = p0 + 1; p < p1; ++p) {
-      const int i = rows_[p];
+      const int i = rows[p];
       acc += H[p] * x[i];
       y[i] += H[p] * xj;
     }

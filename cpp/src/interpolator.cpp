@@ -130,7 +130,8 @@ struct Interpolator::PieceSolver {
     std::unique_ptr<Flattener> own_flattener;
     std::unique_ptr<Layout> own_layout;
     History history;
-    Eigen::VectorXd u, l2w;
+    Eigen::VectorXd u, l2w, flat_l2;
+    Positions X;
   };
 
   Piece piece;
@@ -140,7 +141,7 @@ struct Interpolator::PieceSolver {
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
-  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}};
+  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}, {}, {}};
   std::vector<std::unique_ptr<Workspace>> extra;  // workers 1, 2, ... of frames()
 
   Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
@@ -188,7 +189,9 @@ struct Interpolator::PieceSolver {
     ws.history.predict(w, ws.u);
     const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
     ws.history.add(w, ws.u);
-    Positions X = ws.layout->embed(scale_lengths(piece.mesh, ws.l2w, ws.u), flatness);
+    scale_lengths(piece.mesh, ws.l2w, ws.u, ws.flat_l2);
+    Positions& X = ws.X;
+    ws.layout->embed(ws.flat_l2, X, flatness);
     if (mirrored) X.col(0) *= -1.0;
     anchor.place(X, blend_frames(frames, w, anchor_mode));
     for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);
@@ -198,8 +201,9 @@ struct Interpolator::PieceSolver {
 
 Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor,
                            const InterpolatorOptions& options)
-    : shapes_(shapes), F_(F), anchor_(anchor), options_(options) {
+    : num_shapes_(static_cast<int>(shapes.size())), anchor_(anchor), options_(options) {
   if (shapes.empty()) throw InvalidInput("need at least one shape");
+  num_vertices_ = static_cast<int>(shapes[0].rows());
   if (options.base < 0 || options.base >= num_shapes()) {
     std::ostringstream s;
     s << "base shape index " << options.base << " out of range [0, " << num_shapes() << ")";
@@ -228,6 +232,10 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   }
   for (int v = 0; v < nv; ++v)
     if (mesh.is_isolated_vertex(v)) isolated_.push_back(v);
+  for (const Positions& X : shapes) {
+    isolated_positions_.emplace_back(isolated_.size(), 2);
+    for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
+  }
   for (Piece& p : split_into_disks(mesh)) {
     std::vector<Positions> local(shapes.size(), Positions(p.vertices.size(), 2));
     for (size_t i = 0; i < shapes.size(); ++i)
@@ -273,9 +281,9 @@ void Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> o
     st.factorizations += r.factorizations;
     st.chord_steps += r.chord_steps;
   }
-  for (int v : isolated_) {
-    out.row(v).setZero();
-    for (int i = 0; i < num_shapes(); ++i) out.row(v) += w[i] * shapes_[i].row(v);
+  for (size_t k = 0; k < isolated_.size(); ++k) {
+    out.row(isolated_[k]).setZero();
+    for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
   }
 }
 

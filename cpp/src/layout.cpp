@@ -70,7 +70,7 @@ Layout::Layout(const Mesh& disk) : mesh_(&disk) {
   tree_ = dual_tree(disk, root_);
   const int n = disk.num_vertices() - 1;  // vertex 0 is pinned at the origin
 
-  local_.resize(disk.num_faces(), 6);
+  local_.resize(disk.num_faces(), 3);
   rhs_.resize(2 * std::max(n, 0));
   if (n <= 0) return;
   // Half-edge Laplacian: every half-edge (a, b) adds (x_b - x_a)^2; interior edges count twice.
@@ -111,12 +111,18 @@ std::unique_ptr<Layout> Layout::clone() const {
   copy->root_ = root_;
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
 
-  copy->local_.resize(local_.rows(), 6);
+  copy->local_.resize(local_.rows(), 3);
   copy->rhs_.resize(rhs_.size());
   return copy;
 }
 
 Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
+  Positions X;
+  embed(l2, X, flatness);
+  return X;
+}
+
+void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
   const Mesh& m = *mesh_;
   const Faces& F = m.faces();
   const Faces& FE = m.face_edges();
@@ -137,9 +143,12 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
       cx = longest == 0 ? -l[1] : l[1];
       cy = 0.0;
     }
-    local_.row(f) << 0.0, 0.0, l[2], 0.0, cx, cy;
+    local_.row(f) << l[2], cx, cy;
   }
-  auto corner = [&](int f, int c) { return Eigen::Vector2d(local_(f, 2 * c), local_(f, 2 * c + 1)); };
+  auto corner = [&](int f, int c) {
+    return c == 0 ? Eigen::Vector2d(0.0, 0.0)
+                  : (c == 1 ? Eigen::Vector2d(local_(f, 0), 0.0) : Eigen::Vector2d(local_(f, 1), local_(f, 2)));
+  };
   auto corner_of = [&](int f, int v) {
     return F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2);
   };
@@ -159,7 +168,8 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
     const double inv = 1.0 / std::sqrt(zr * zr + zi * zi);
     rot_.row(g) << zr * inv, zi * inv;
   }
-  Positions X = Positions::Zero(m.num_vertices(), 2);
+  X.resize(m.num_vertices(), 2);
+  X.row(0).setZero();
   const int n = m.num_vertices() - 1;
   if (n > 0) {
     rhs_.setZero();
@@ -192,7 +202,6 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
     }
     *flatness = worst;
   }
-  return X;
 }
 
 }  // namespace bdinterp

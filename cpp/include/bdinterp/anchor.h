@@ -65,9 +65,11 @@ class AnchorFrame {
 
   const Mesh* mesh_;
   int vertex_;
-  std::vector<Eigen::Matrix2d> base_inverse_;  // per face: inverse of the base edge matrix
-  Eigen::VectorXd weight_;                     // per face: base area inside the region, else 0
-  std::vector<std::array<int, 3>> tree_;       // dual BFS: (face, parent, shared edge)
+  double base_area(int f) const;
+
+  Positions base_;                         // the base shape (#V by 2)
+  std::vector<int> region_;                // faces around the anchor vertex; empty: every face
+  std::vector<std::array<int, 2>> tree_;   // dual breadth-first order: (face, parent)
 };
 
 // The anchor of an in-between: the weighted blend of the inputs' anchors (path-corrected in Path mode).

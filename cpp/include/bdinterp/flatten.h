@@ -104,7 +104,6 @@ class Flattener {
   double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
   Eigen::VectorXd step_, trial_;      // scratch
   Eigen::VectorXd cg_r_, cg_z_, cg_p_, cg_q_;
-  std::vector<int> col_ptr_, rows_;   // pattern of the lower triangle (for products)
 };
 
 // One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.
@@ -113,5 +112,7 @@ Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2,
 
 // exp(u_i + u_j) * l2_ij for every edge.
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+// The same into `out` (resized if needed).
+void scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u, Eigen::VectorXd& out);
 
 }  // namespace bdinterp

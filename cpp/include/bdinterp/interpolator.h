@@ -39,8 +39,8 @@ class Interpolator {
   Interpolator(const Interpolator&) = delete;
   Interpolator& operator=(const Interpolator&) = delete;
 
-  int num_shapes() const { return static_cast<int>(shapes_.size()); }
-  int num_vertices() const { return static_cast<int>(shapes_[0].rows()); }
+  int num_shapes() const { return num_shapes_; }
+  int num_vertices() const { return num_vertices_; }
 
   // Two shapes: the in-between at t (weights (1 - t, t)); t outside [0, 1] extrapolates while the
   // metric stays valid.
@@ -68,19 +68,18 @@ class Interpolator {
   // sequential; never more than one per 4 frames.
   void set_threads(int n) { threads_ = n; }
   int threads() const { return threads_; }
-  const Faces& faces() const { return F_; }
 
  private:
   struct PieceSolver;
   void check_weights(const Eigen::VectorXd& w) const;
   void solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker, FrameStats& st);
 
-  std::vector<Positions> shapes_;
-  Faces F_;
+  int num_shapes_ = 0, num_vertices_ = 0;
   Anchor anchor_;
   InterpolatorOptions options_;
   std::vector<std::unique_ptr<PieceSolver>> pieces_;
   std::vector<int> isolated_;
+  std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
   int threads_ = 0;  // 0: hardware concurrency
 };

@@ -27,6 +27,8 @@ class Layout {
   // the order given by the face list, in an arbitrary rigid frame. If `flatness` is given it receives
   // max over edges of | |x_i - x_j|^2 / l2_ij - 1 |, which is ~1e-15 for an exactly flat metric.
   Positions embed(const Eigen::VectorXd& l2, double* flatness = nullptr);
+  // The same into X (resized if needed), so that repeated frames allocate nothing.
+  void embed(const Eigen::VectorXd& l2, Positions& X, double* flatness = nullptr);
 
  private:
   explicit Layout(const Mesh* mesh) : mesh_(mesh) {}
@@ -38,7 +40,9 @@ class Layout {
   std::unique_ptr<SparseCholesky> chol_;  // half-edge Laplacian with vertex 0 removed
   Eigen::VectorXd phi_;                   // (unused, kept for layout compatibility)
   Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rot_;  // #F scratch: (cos, sin) per face
-  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> local_;  // #F scratch: corner coords
+  // #F scratch: each face in its own frame, corner 0 at the origin, corner 1 at (l01, 0), corner 2 at
+  // (cx, cy); rows (l01, cx, cy).
+  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> local_;
   Eigen::VectorXd rhs_;                   // 2 (#V - 1) scratch
 };
 

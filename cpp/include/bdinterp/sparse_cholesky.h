@@ -31,6 +31,10 @@ class SparseCholesky {
   double solve_flops() const;
   // The numeric values, in the order of row_idx; write them, then call factorize().
   double* values();
+  const double* values() const;
+  // The pattern given to the constructor (n + 1 column pointers, row indices).
+  const int* column_pointers() const;
+  const int* row_indices() const;
   // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
   // definite (naming the failing column) or CHOLMOD reports an error.
   void factorize();
