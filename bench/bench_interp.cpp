@@ -28,6 +28,7 @@
 #include "bdinterp/interpolator.h"
 #include "bdinterp/mesh.h"
 #include "bdinterp/metric_blend.h"
+#include "test_meshes.h"
 
 namespace bd = bdinterp;
 
@@ -43,32 +44,10 @@ struct BenchMesh {
 // (2 ny + 1) x (ny + 1) jittered grid over [0, 2] x [0, 1], random diagonals, counter-clockwise.
 BenchMesh make_mesh(int approx_vertices, unsigned seed = 7) {
   const int ny = std::max(2, static_cast<int>(std::lround(std::sqrt(approx_vertices / 2.0))));
-  const int nx = 2 * ny;
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> jitter(-0.25, 0.25);
-  std::bernoulli_distribution coin(0.5);
+  const bd::testing::TestMesh grid = bd::testing::jittered_grid(2 * ny, ny, 2.0, 1.0, seed);
   BenchMesh m;
-  m.source.resize((nx + 1) * (ny + 1), 2);
-  const double h = 1.0 / ny;
-  for (int j = 0; j <= ny; ++j)
-    for (int i = 0; i <= nx; ++i) {
-      const bool interior = i > 0 && i < nx && j > 0 && j < ny;
-      m.source.row(j * (nx + 1) + i) << h * (i + (interior ? jitter(rng) : 0.0)),
-          h * (j + (interior ? jitter(rng) : 0.0));
-    }
-  m.F.resize(2 * nx * ny, 3);
-  int f = 0;
-  for (int j = 0; j < ny; ++j)
-    for (int i = 0; i < nx; ++i) {
-      const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
-      if (coin(rng)) {
-        m.F.row(f++) << a, b, c;
-        m.F.row(f++) << a, c, d;
-      } else {
-        m.F.row(f++) << a, b, d;
-        m.F.row(f++) << b, c, d;
-      }
-    }
+  m.source = grid.V;
+  m.F = grid.F;
   // Target: stretch 1.5 x 0.6 (K = 2.5), then bend the bar's centre line into 3/4 of a circle
   // (radius 0.64 at the centre line, so K reaches ~3.7 on the inner side).
   const double angle = 1.5 * 3.14159265358979323846, length = 2 * 1.5;
@@ -165,27 +144,37 @@ void BM_Poisson(benchmark::State& state) {
   }
 }
 
+// Newton steps, factorisations and chord steps per frame, as benchmark counters.
+struct StepCounter {
+  double iterations = 0, factorizations = 0, chords = 0, frames = 0;
+  void add(benchmark::State& state, const bd::FrameStats& st) {
+    iterations += st.iterations;
+    factorizations += st.factorizations;
+    chords += st.chord_steps;
+    frames += 1;
+    check_accuracy(state, st);
+  }
+  void report(benchmark::State& state) const {
+    state.counters["newton"] = iterations / frames;
+    state.counters["factor"] = factorizations / frames;
+    state.counters["chord"] = chords / frames;
+  }
+};
+
 // A new t with nothing cached but the symbolic analysis.
 void BM_Cold(benchmark::State& state) {
   Case& c = get_case(vertices_of(state));
   bd::Positions out(c.mesh.source.rows(), 2);
   const double ts[] = {0.5, 0.3, 0.7, 0.15, 0.85};
   int k = 0;
-  double iters = 0, facts = 0, chords = 0, frames = 0;
+  StepCounter steps;
   for (auto _ : state) {
     c.interp->forget();
     const double t = ts[k++ % 5];
     c.interp->blend_into(Eigen::Vector2d(1 - t, t), out);
-    const bd::FrameStats& st = c.interp->last_stats();
-    iters += st.iterations;
-    facts += st.factorizations;
-    chords += st.chord_steps;
-    frames += 1;
-    check_accuracy(state, st);
+    steps.add(state, c.interp->last_stats());
   }
-  state.counters["newton"] = iters / frames;
-  state.counters["factor"] = facts / frames;
-  state.counters["chord"] = chords / frames;
+  steps.report(state);
 }
 
 // A slider dragged by 0.01 per frame, back and forth over [0, 1].
@@ -201,20 +190,13 @@ void BM_Warm(benchmark::State& state) {
     const double t = next();
     c.interp->blend_into(Eigen::Vector2d(1 - t, t), out);
   }
-  double iters = 0, facts = 0, chords = 0, frames = 0;
+  StepCounter steps;
   for (auto _ : state) {
     const double t = next();
     c.interp->blend_into(Eigen::Vector2d(1 - t, t), out);
-    const bd::FrameStats& st = c.interp->last_stats();
-    iters += st.iterations;
-    facts += st.factorizations;
-    chords += st.chord_steps;
-    frames += 1;
-    check_accuracy(state, st);
+    steps.add(state, c.interp->last_stats());
   }
-  state.counters["newton"] = iters / frames;
-  state.counters["factor"] = facts / frames;
-  state.counters["chord"] = chords / frames;
+  steps.report(state);
 }
 
 // Baking 101 frames t = 0, 0.01, ..., 1 with state.range(1) threads; time per frame.
