@@ -28,6 +28,7 @@ struct FrameStats {
   double seconds = 0;            // wall-clock time of the frame in C++
 };
 
+// Not thread-safe: one Interpolator per thread (frames() parallelises internally).
 class Interpolator {
  public:
   // shapes: k >= 1 arrays of #V by 2 positions with the connectivity F (#F by 3). Validates everything
