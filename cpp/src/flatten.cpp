@@ -14,16 +14,10 @@ constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
 }  // namespace
 
-void scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
-                   Eigen::VectorXd& out) {
-  const Edges& E = mesh.edges();
-  out.resize(E.rows());
-  for (int e = 0; e < E.rows(); ++e) out[e] = l2[e] * std::exp(u[E(e, 0)] + u[E(e, 1)]);
-}
-
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
-  Eigen::VectorXd out;
-  scale_lengths(mesh, l2, u, out);
+  const Edges& E = mesh.edges();
+  Eigen::VectorXd out(E.rows());
+  for (int e = 0; e < E.rows(); ++e) out[e] = l2[e] * std::exp(u[E(e, 0)] + u[E(e, 1)]);
   return out;
 }
 
@@ -322,7 +316,9 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     if (interior_index_[v] < 0 || !std::isfinite(u[v])) u[v] = 0.0;
 
   FlattenReport rep;
-  Eval cur = evaluate(l2, u, false, false);  // scaled_l2_ and grad_ now describe u
+  // One pass gives the residual and, should a step follow, the Hessian at u.
+  Eval cur = evaluate(l2, u, false, num_interior_ > 0);  // scaled_l2_, grad_, Hessian describe u
+  bool hessian_at_u = num_interior_ > 0;
   rep.max_broken_triangles = cur.broken;
   double cur_energy = std::numeric_limits<double>::quiet_NaN();
   step_.resize(num_interior_);
@@ -343,9 +339,10 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     }
     ++rep.iterations;
     if (try_chord) {
-      // Newton step with the Hessian at u (assembled without angles), solved by conjugate gradients
-      // preconditioned with the earlier factorisation: a few solves instead of a factorisation.
-      assemble_from_scaled();
+      // Newton step with the Hessian at u, solved by conjugate gradients preconditioned with the
+      // earlier factorisation: a few solves instead of a factorisation.
+      if (!hessian_at_u) assemble_from_scaled();
+      hessian_at_u = true;
       const double eta = std::max(0.05 * options.tolerance,
                                   std::min(1e-3 * cur.residual, cur.residual * cur.residual));
       const int cg_iterations = preconditioned_cg(eta, 12);
@@ -359,6 +356,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
         const double rate = next.residual / cur.residual;
         u.swap(trial_);
         cur = next;
+        hessian_at_u = false;
         cur_energy = std::numeric_limits<double>::quiet_NaN();
         ++rep.chord_steps;
         rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
@@ -373,7 +371,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     }
     // A Newton step with a fresh factorisation at u.
     if (grad_at_u) {
-      assemble_from_scaled();
+      if (!hessian_at_u) assemble_from_scaled();
     } else {
       evaluate(l2, u, false, true);
       grad_at_u = true;
@@ -430,6 +428,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     const double newton_rate = next.residual / cur.residual;
     u.swap(trial_);
     cur = next;
+    hessian_at_u = false;
     rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
     // Chord steps with this factor contract about as much as this Newton step did.
     if (options.reuse_factorization && s == 1.0 && cur.residual > options.tolerance) {

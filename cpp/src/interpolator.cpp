@@ -130,7 +130,7 @@ struct Interpolator::PieceSolver {
     std::unique_ptr<Flattener> own_flattener;
     std::unique_ptr<Layout> own_layout;
     History history;
-    Eigen::VectorXd u, l2w, flat_l2;
+    Eigen::VectorXd u, l2w;
     Positions X;
   };
 
@@ -141,7 +141,7 @@ struct Interpolator::PieceSolver {
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
-  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}, {}, {}};
+  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}, {}};
   std::vector<std::unique_ptr<Workspace>> extra;  // workers 1, 2, ... of frames()
 
   Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
@@ -189,9 +189,8 @@ struct Interpolator::PieceSolver {
     ws.history.predict(w, ws.u);
     const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
     ws.history.add(w, ws.u);
-    scale_lengths(piece.mesh, ws.l2w, ws.u, ws.flat_l2);
     Positions& X = ws.X;
-    ws.layout->embed(ws.flat_l2, X, flatness);
+    ws.layout->embed(ws.flattener->flat_squared_lengths(), X, flatness);
     if (mirrored) X.col(0) *= -1.0;
     anchor.place(X, blend_frames(frames, w, anchor_mode));
     for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);

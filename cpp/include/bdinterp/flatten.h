@@ -59,6 +59,9 @@ class Flattener {
   Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
   // max |2pi - angle sum| over interior vertices.
   double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  // #E flat squared lengths exp(u_i + u_j) l2_ij at the solution of the last solve() (valid until
+  // the next call of any evaluating method), so the layout need not recompute them.
+  const Eigen::VectorXd& flat_squared_lengths() const { return scaled_l2_; }
   int num_interior() const { return num_interior_; }
   // Benchmarks: loads the Hessian at (l2, u) into the solver (no factorisation) and gives access to
   // it; the next solve() will not reuse the factorisation that was there.
@@ -112,7 +115,5 @@ Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2,
 
 // exp(u_i + u_j) * l2_ij for every edge.
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
-// The same into `out` (resized if needed).
-void scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u, Eigen::VectorXd& out);
 
 }  // namespace bdinterp
