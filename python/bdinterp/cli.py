@@ -47,6 +47,11 @@ def _pair_args(p):
                    help="no progress bar (shown on stderr if a terminal)")
 
 
+def _samples_arg(p, default, what=""):
+    p.add_argument("--samples", type=int, default=default, metavar="K",
+                   help=f"number of t samples in [0,1]{what} (default {default})")
+
+
 def _output_arg(p, what):
     p.add_argument("-o", "--output", required=True, metavar="FILE.png",
                    help=f"where to write the {what} (format from the "
@@ -87,9 +92,7 @@ def build_parser():
     _pair_args(p)
     p.add_argument("-t", type=float, default=0.5, help="t of the pictured "
                    "frames (default 0.5)")
-    p.add_argument("--samples", type=int, default=21, metavar="K",
-                   help="number of t samples in [0,1] for the graph "
-                        "(default 21)")
+    _samples_arg(p, 21, " for the graph")
     p.add_argument("--top", type=int, default=100, metavar="N",
                    help="how many most distorted faces to follow "
                         "(default 100)")
@@ -104,8 +107,7 @@ def build_parser():
     p.add_argument("--triangles", type=int, default=12, metavar="N",
                    help="number of triangles, spread over the range of "
                         "target distortion (default 12)")
-    p.add_argument("--samples", type=int, default=41, metavar="K",
-                   help="number of t samples in [0,1] (default 41)")
+    _samples_arg(p, 41)
     _output_arg(p, "figure")
     p.set_defaults(run=cmd_plot_distortion)
 
