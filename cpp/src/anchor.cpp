@@ -15,28 +15,18 @@ namespace bdinterp {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-Eigen::Matrix2d edge_matrix(const Positions& X, const Faces& F, int f) {
-  Eigen::Matrix2d D;
-  D.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
-  D.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
-  return D;
-}
-
-double wrap(double a) { return std::remainder(a, 2 * kPi); }  // to [-pi, pi]
-
 }  // namespace
 
 AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     : mesh_(&disk), vertex_(vertex), base_(base) {
   const Faces& F = disk.faces();
-  if (vertex >= 0) {
-    for (int f = 0; f < F.rows(); ++f)
-      if (F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex) region_.push_back(f);
-  }
+  std::vector<bool> in_region(F.rows(), vertex < 0);
+  for (int f = 0; f < F.rows(); ++f)
+    if (F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex) in_region[f] = true;
   // Unwrapping order: breadth-first over the dual graph from face 0.
-  std::vector<bool> seen(F.rows(), false);
+  std::vector<int> slot_of(F.rows(), -1);
   std::deque<int> queue{0};
-  seen[0] = true;
+  slot_of[0] = 0;
   tree_.push_back({0, -1});
   while (!queue.empty()) {
     const int f = queue.front();
@@ -44,12 +34,25 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     for (int c = 0; c < 3; ++c) {
       const int e = disk.face_edges()(f, c);
       const int g = disk.edge_faces()(e, 0) == f ? disk.edge_faces()(e, 1) : disk.edge_faces()(e, 0);
-      if (g < 0 || seen[g]) continue;
-      seen[g] = true;
-      tree_.push_back({g, f});
+      if (g < 0 || slot_of[g] >= 0) continue;
+      slot_of[g] = static_cast<int>(tree_.size());
+      tree_.push_back({g, slot_of[f]});
       queue.push_back(g);
     }
   }
+  // Per slot: the base edges b1, b2, pre-multiplied by the orientation sign s of the base face, and
+  // the face's share of the region's base area.
+  base_edges_.resize(static_cast<Eigen::Index>(tree_.size()), 4);
+  weight_.resize(static_cast<Eigen::Index>(tree_.size()));
+  for (size_t k = 0; k < tree_.size(); ++k) {
+    const int f = tree_[k][0];
+    const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
+    const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
+    const double s = b1.x() * b2.y() - b1.y() * b2.x() < 0 ? -1.0 : 1.0;
+    base_edges_.row(static_cast<Eigen::Index>(k)) << s * b1.x(), s * b1.y(), s * b2.x(), s * b2.y();
+    weight_[static_cast<Eigen::Index>(k)] = in_region[f] ? base_area(f) : 0.0;
+  }
+  weight_ /= weight_.sum();
 }
 
 double AnchorFrame::base_area(int f) const {
@@ -59,51 +62,65 @@ double AnchorFrame::base_area(int f) const {
   return 0.5 * std::abs(b1.x() * b2.y() - b1.y() * b2.x());
 }
 
-Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
+void AnchorFrame::unwrapped_rotations(const Positions& X, double* rot) const {
+  // The affine map J (base edges b_k -> edges e_k) written as J z = a z + b conj(z): its closest
+  // rotation is arg(a), with a = (e1 conj(b2) - e2 conj(b1)) / (b1 conj(b2) - b2 conj(b1)) and
+  // the denominator = -2i cross(b1, b2). No inverse matrices need to be stored. Each face's angle is
+  // moved to within pi of its parent's; the wrapped angles differ by less than 2 pi, so one
+  // correction of 2 pi suffices (no remainder).
+  constexpr double kTwoPi = 2 * kPi;
   const Faces& F = mesh_->faces();
-  Eigen::VectorXd rot(F.rows());
-  for (const auto& [f, parent] : tree_) {
-    // The affine map J (base edges b_k -> edges e_k) written as J z = a z + b conj(z): its closest
-    // rotation is arg(a), with a = (e1 conj(b2) - e2 conj(b1)) / (b1 conj(b2) - b2 conj(b1)) and
-    // the denominator = -2i cross(b1, b2). No inverse matrices need to be stored.
-    const Eigen::RowVector2d e1 = X.row(F(f, 1)) - X.row(F(f, 0)), e2 = X.row(F(f, 2)) - X.row(F(f, 0));
-    const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
-    const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
-    const double num_re = (e1.x() * b2.x() + e1.y() * b2.y()) - (e2.x() * b1.x() + e2.y() * b1.y());
-    const double num_im = (e1.y() * b2.x() - e1.x() * b2.y()) - (e2.y() * b1.x() - e2.x() * b1.y());
-    const double s = b1.x() * b2.y() - b1.y() * b2.x() < 0 ? -1.0 : 1.0;
-    const double raw = fast_atan2(s * num_re, -s * num_im);
-    rot[f] = parent < 0 ? raw : rot[parent] + wrap(raw - rot[parent]);
+  double* raw = rot + tree_.size();  // second half of the scratch: the angles as atan2 gives them
+  for (size_t k = 0; k < tree_.size(); ++k) {
+    const auto [f, parent] = tree_[k];
+    const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
+    const double e1x = X(v1, 0) - X(v0, 0), e1y = X(v1, 1) - X(v0, 1);
+    const double e2x = X(v2, 0) - X(v0, 0), e2y = X(v2, 1) - X(v0, 1);
+    const double* b = &base_edges_(static_cast<Eigen::Index>(k), 0);  // s b1, s b2
+    const double num_re = (e1x * b[2] + e1y * b[3]) - (e2x * b[0] + e2y * b[1]);
+    const double num_im = (e1y * b[2] - e1x * b[3]) - (e2y * b[0] - e2x * b[1]);
+    raw[k] = fast_atan2(num_re, -num_im);
+    if (parent < 0) {
+      rot[k] = raw[k];
+      continue;
+    }
+    double d = raw[k] - raw[parent];
+    if (d > kPi) d -= kTwoPi;
+    else if (d < -kPi) d += kTwoPi;
+    rot[k] = rot[parent] + d;
   }
+}
+
+Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
+  std::vector<double> scratch(2 * tree_.size());
+  unwrapped_rotations(X, scratch.data());
+  Eigen::VectorXd rot(mesh_->num_faces());
+  for (size_t k = 0; k < tree_.size(); ++k) rot[tree_[k][0]] = scratch[k];
   return rot;
 }
 
-double AnchorFrame::region_angle(const Eigen::VectorXd& rot) const {
-  double sum = 0, total = 0;
-  auto add = [&](int f) {
-    const double w = base_area(f);
-    sum += w * rot[f];
-    total += w;
-  };
-  if (region_.empty()) {
-    for (int f = 0; f < rot.size(); ++f) add(f);
-  } else {
-    for (int f : region_) add(f);
-  }
-  return sum / total;
+double AnchorFrame::region_angle(const Positions& X) const {
+  // Scratch per thread: frames of one piece are placed concurrently by frames().
+  thread_local std::vector<double> scratch;
+  scratch.resize(2 * tree_.size());
+  unwrapped_rotations(X, scratch.data());
+  double sum = 0;
+  for (size_t k = 0; k < tree_.size(); ++k) sum += weight_[static_cast<Eigen::Index>(k)] * scratch[k];
+  return sum;
 }
 
 Eigen::Vector2d AnchorFrame::point_of(const Positions& X) const {
   if (vertex_ >= 0) return X.row(vertex_).transpose();
   const Faces& F = mesh_->faces();
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  double area = 0;
+  double sx = 0, sy = 0, area = 0;  // signed: any orientation works
   for (int f = 0; f < F.rows(); ++f) {
-    const double a = 0.5 * edge_matrix(X, F, f).determinant();  // signed: any orientation works
-    sum += a * (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3.0;
+    const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
+    const double a = (X(v1, 0) - X(v0, 0)) * (X(v2, 1) - X(v0, 1)) - (X(v1, 1) - X(v0, 1)) * (X(v2, 0) - X(v0, 0));
+    sx += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
+    sy += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
     area += a;
   }
-  return sum / area;
+  return Eigen::Vector2d(sx, sy) / (3 * area);
 }
 
 Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
@@ -126,11 +143,14 @@ Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
 }
 
 Frame2 AnchorFrame::measure_input(const Positions& X) const {
-  return {point_of(X), region_angle(bulk_rotations(X))};
+  const Eigen::VectorXd rot = bulk_rotations(X);
+  double angle = 0;
+  for (size_t k = 0; k < tree_.size(); ++k) angle += weight_[static_cast<Eigen::Index>(k)] * rot[tree_[k][0]];
+  return {point_of(X), angle};
 }
 
 void AnchorFrame::place(Positions& X, const Frame2& target) const {
-  const double turn = target.angle - region_angle(face_rotations(X));
+  const double turn = target.angle - region_angle(X);
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(turn).toRotationMatrix();
   const Eigen::Vector2d p = R * point_of(X);
   const Eigen::RowVector2d shift = (target.point - p).transpose();

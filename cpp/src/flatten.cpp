@@ -30,7 +30,7 @@ Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
       interior_vertex_.push_back(v);
     }
   }
-  grad_.resize(num_interior_);
+  grad_.resize(num_interior_ + 1);
   scaled_l2_.resize(disk.num_edges());
   if (num_interior_ == 0) return;
 
@@ -57,6 +57,20 @@ Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
   }
   nnz_ = static_cast<int>(rows.size());
   chol_ = std::make_unique<SparseCholesky>(num_interior_, col_ptr, rows);
+  hvals_.assign(nnz_ + 1, 0.0);
+  const Faces& F = disk.faces();
+  const Faces& FE = disk.face_edges();
+  slots_.resize(F.rows());
+  for (int f = 0; f < F.rows(); ++f) {
+    FaceSlots& s = slots_[f];
+    for (int c = 0; c < 3; ++c) {
+      const int i = interior_index_[F(f, c)];
+      s.edge[c] = FE(f, c);
+      s.row[c] = i >= 0 ? i : num_interior_;
+      s.diag[c] = i >= 0 ? diag_pos_[i] : nnz_;
+      s.off[c] = edge_pos_[FE(f, c)] >= 0 ? edge_pos_[FE(f, c)] : nnz_;
+    }
+  }
 }
 
 Flattener::Flattener(Flattener&&) noexcept = default;
@@ -70,8 +84,10 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   copy->interior_vertex_ = interior_vertex_;
   copy->diag_pos_ = diag_pos_;
   copy->edge_pos_ = edge_pos_;
+  copy->slots_ = slots_;
+  copy->hvals_ = hvals_;
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
-  copy->grad_.resize(num_interior_);
+  copy->grad_.resize(num_interior_ + 1);
   copy->scaled_l2_.resize(scaled_l2_.size());
   copy->factor_reusable_ = factor_reusable_ && chol_;
   copy->factor_cost_ = factor_cost_;
@@ -82,94 +98,101 @@ std::unique_ptr<Flattener> Flattener::clone() const {
 
 namespace {
 
-// Adds the cotan weights of one face to the Hessian values H (lower triangle, interior rows).
-inline void scatter_cotangents(const double cot[3], const int corners[3], const int edges[3],
-                               const std::vector<int>& interior_index, const std::vector<int>& diag_pos,
-                               const std::vector<int>& edge_pos, double* H) {
+// Adds the cotan weights (cot / 2) of one face to the Hessian values H (zero for a broken face).
+inline void scatter_cotangents(const double cot[3], const int diag[3], const int off[3], double* H) {
   for (int c = 0; c < 3; ++c) {
     const double w = 0.5 * cot[c];
-    const int a = interior_index[corners[(c + 1) % 3]], b = interior_index[corners[(c + 2) % 3]];
-    if (a >= 0) H[diag_pos[a]] += w;
-    if (b >= 0) H[diag_pos[b]] += w;
-    const int p = edge_pos[edges[c]];
-    if (p >= 0) H[p] -= w;
+    H[diag[(c + 1) % 3]] += w;
+    H[diag[(c + 2) % 3]] += w;
+    H[off[c]] -= w;
   }
 }
 
 }  // namespace
 
-Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
-                                    bool want_energy, bool want_hessian) const {
+void Flattener::prepare(const Eigen::VectorXd& l2) const { root_l2_ = l2.array().sqrt(); }
+
+Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
+                                    bool want_hessian) const {
   const Mesh& m = *mesh_;
-  const Faces& F = m.faces();
-  const Faces& FE = m.face_edges();
   const Edges& E = m.edges();
-  // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
-  exp_u_.resize(u.size());
-  for (Eigen::Index v = 0; v < u.size(); ++v) exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]);
+  // l_ij = sqrt(l2_ij) exp(u_i / 2) exp(u_j / 2): one exp per vertex, one root per edge per solve.
+  half_exp_.resize(u.size());
+  for (Eigen::Index v = 0; v < u.size(); ++v) half_exp_[v] = u[v] == 0.0 ? 1.0 : std::exp(0.5 * u[v]);
   scaled_l2_.resize(E.rows());
-  for (int e = 0; e < E.rows(); ++e) scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
+  scaled_len_.resize(E.rows());
+  for (int e = 0; e < E.rows(); ++e) {
+    const double l = root_l2_[e] * (half_exp_[E(e, 0)] * half_exp_[E(e, 1)]);
+    scaled_len_[e] = l;
+    scaled_l2_[e] = l * l;
+  }
   Eval ev;
   grad_.setConstant(kTwoPi);
-  double* H = want_hessian && chol_ ? chol_->values() : nullptr;
-  if (H) std::fill_n(H, nnz_, 0.0);
+  double* H = want_hessian && chol_ ? hvals_.data() : nullptr;
+  if (H) std::fill(hvals_.begin(), hvals_.end(), 0.0);
   double energy = 0;
   double angle[3], cot[3];
-  for (int f = 0; f < F.rows(); ++f) {
-    const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
-    const bool broken = triangle_angles(fl2, angle, H ? cot : nullptr);
-    ev.broken += broken;
-    for (int c = 0; c < 3; ++c) {
-      const int vi = interior_index_[F(f, c)];
-      if (vi >= 0) grad_[vi] -= angle[c];
-    }
+  for (const FaceSlots& s : slots_) {
+    const double fl[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
+    const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
+    ev.broken += triangle_angles_from_lengths(fl, fl2, angle, H ? cot : nullptr);
+    grad_[s.row[0]] -= angle[0];
+    grad_[s.row[1]] -= angle[1];
+    grad_[s.row[2]] -= angle[2];
     if (want_energy) {
       for (int c = 0; c < 3; ++c) {
         const double lambda = std::log(fl2[c]);
         energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - kHalfPi * lambda;
       }
     }
-    if (H && !broken) scatter_cotangents(cot, &F(f, 0), &FE(f, 0), interior_index_, diag_pos_, edge_pos_, H);
+    if (H) scatter_cotangents(cot, s.diag, s.off, H);
   }
   if (want_energy) {
     for (int i = 0; i < num_interior_; ++i) energy += kTwoPi * u[interior_vertex_[i]];
   }
   ev.energy = energy;
-  ev.residual = num_interior_ ? grad_.cwiseAbs().maxCoeff() : 0.0;
+  ev.residual = num_interior_ ? grad_.head(num_interior_).cwiseAbs().maxCoeff() : 0.0;
   return ev;
 }
 
 void Flattener::assemble_from_scaled() const {
-  const Faces& F = mesh_->faces();
-  const Faces& FE = mesh_->face_edges();
-  double* H = chol_->values();
-  std::fill_n(H, nnz_, 0.0);
+  double* H = hvals_.data();
+  std::fill(hvals_.begin(), hvals_.end(), 0.0);
   double cot[3];
-  for (int f = 0; f < F.rows(); ++f) {
-    const double fl2[3] = {scaled_l2_[FE(f, 0)], scaled_l2_[FE(f, 1)], scaled_l2_[FE(f, 2)]};
-    if (!triangle_cotangents(fl2, cot)) scatter_cotangents(cot, &F(f, 0), &FE(f, 0), interior_index_, diag_pos_, edge_pos_, H);
+  for (const FaceSlots& s : slots_) {
+    const double fl[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
+    const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
+    triangle_cotangents_from_lengths(fl, fl2, cot);
+    scatter_cotangents(cot, s.diag, s.off, H);
   }
 }
+
+void Flattener::load_hessian() { std::copy_n(hvals_.data(), nnz_, chol_->values()); }
 
 void Flattener::assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
   factor_reusable_ = false;
   if (num_interior_ == 0) return;
-  evaluate(l2, u, false, true);
+  prepare(l2);
+  evaluate(u, false, true);
+  load_hessian();
 }
 
 double Flattener::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  return evaluate(l2, u, true, false).energy;
+  prepare(l2);
+  return evaluate(u, true, false).energy;
 }
 
 Eigen::VectorXd Flattener::gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  evaluate(l2, u, false, false);
+  prepare(l2);
+  evaluate(u, false, false);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(mesh_->num_vertices());
   for (int i = 0; i < num_interior_; ++i) g[interior_vertex_[i]] = grad_[i];
   return g;
 }
 
 double Flattener::residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  return evaluate(l2, u, false, false).residual;
+  prepare(l2);
+  return evaluate(u, false, false).residual;
 }
 
 Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
@@ -206,6 +229,7 @@ Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
 void Flattener::factorize_with_shift() {
   // The Hessian is positive definite unless faces degenerate to (pi, 0, 0) around a vertex; then a
   // small diagonal shift keeps the step a descent direction.
+  load_hessian();
   double shift = 0;
   for (int attempt = 0;; ++attempt) {
     try {
@@ -225,7 +249,7 @@ void Flattener::factorize_with_shift() {
 
 void Flattener::hessian_times(const double* x, double* y) const {
   const SparseCholesky& chol = *chol_;
-  const double* H = chol.values();
+  const double* H = hvals_.data();
   const int* col_ptr = chol.column_pointers();
   const int* rows = chol.row_indices();
   std::fill_n(y, num_interior_, 0.0);
@@ -316,8 +340,9 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     if (interior_index_[v] < 0 || !std::isfinite(u[v])) u[v] = 0.0;
 
   FlattenReport rep;
+  prepare(l2);
   // One pass gives the residual and, should a step follow, the Hessian at u.
-  Eval cur = evaluate(l2, u, false, num_interior_ > 0);  // scaled_l2_, grad_, Hessian describe u
+  Eval cur = evaluate(u, false, num_interior_ > 0);  // scaled_l2_, grad_, Hessian describe u
   bool hessian_at_u = num_interior_ > 0;
   rep.max_broken_triangles = cur.broken;
   double cur_energy = std::numeric_limits<double>::quiet_NaN();
@@ -343,14 +368,16 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
       // earlier factorisation: a few solves instead of a factorisation.
       if (!hessian_at_u) assemble_from_scaled();
       hessian_at_u = true;
-      const double eta = std::max(0.05 * options.tolerance,
-                                  std::min(1e-3 * cur.residual, cur.residual * cur.residual));
+      // Inexact Newton: the linear residual need only be small next to the tolerance and to the
+      // quadratic error term; solving further costs solves without improving the accepted step.
+      const double eta = std::max(0.25 * options.tolerance,
+                                  std::min(1e-3 * cur.residual, 0.1 * cur.residual * cur.residual));
       const int cg_iterations = preconditioned_cg(eta, 12);
       for (int i = 0; i < num_interior_; ++i) {
         const int v = interior_vertex_[i];
         trial_[v] = u[v] + step_[i];
       }
-      const Eval next = evaluate(l2, trial_, false, false);
+      const Eval next = evaluate(trial_, false, false);
       chord_cost_ = (cg_iterations + 1) * (chol_->solve_flops() + 4.0 * nnz_) + evaluation_cost();
       if (std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual) {
         const double rate = next.residual / cur.residual;
@@ -373,7 +400,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     if (grad_at_u) {
       if (!hessian_at_u) assemble_from_scaled();
     } else {
-      evaluate(l2, u, false, true);
+      evaluate(u, false, true);
       grad_at_u = true;
     }
     factorize_with_shift();
@@ -389,7 +416,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     double slope = 0;  // < 0
     for (int i = 0; i < num_interior_; ++i) slope += grad_[i] * step_[i];
     if (!(slope < 0)) {  // numerically singular Hessian: fall back to steepest descent
-      const double gmax = std::max(grad_.cwiseAbs().maxCoeff(), 1e-300);
+      const double gmax = std::max(grad_.head(num_interior_).cwiseAbs().maxCoeff(), 1e-300);
       slope = 0;
       for (int i = 0; i < num_interior_; ++i) {
         step_[i] = -grad_[i] * (kMaxStep / gmax);
@@ -404,12 +431,12 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
         trial_[v] = u[v] + s * step_[i];
       }
       // Full steps that halve the residual are accepted without the energy (quadratic phase).
-      next = evaluate(l2, trial_, false, false);
+      next = evaluate(trial_, false, false);
       bool accept = std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual;
       bool energy_known = false;
       if (!accept && std::isfinite(next.residual)) {
-        if (std::isnan(cur_energy)) cur_energy = evaluate(l2, u, true, false).energy;
-        next = evaluate(l2, trial_, true, false);
+        if (std::isnan(cur_energy)) cur_energy = evaluate(u, true, false).energy;
+        next = evaluate(trial_, true, false);
         const double roundoff = 1e-13 * (std::abs(cur_energy) + 1.0);
         accept = next.energy <= cur_energy + 1e-4 * s * slope ||
                  (std::abs(slope) * s < roundoff && next.residual < cur.residual);

@@ -9,16 +9,16 @@
 namespace bdinterp {
 namespace {
 
-// Breadth-first order over the dual graph from `root`; entries (face, parent, shared edge).
-std::vector<std::array<int, 3>> dual_tree(const Mesh& m, int root) {
+// Breadth-first order over the dual graph from `root`, without the root: each face with the parent
+// it is reached from and the corners opposite their shared edge.
+std::vector<Layout::TreeStep> dual_tree(const Mesh& m, int root) {
   const Faces& FE = m.face_edges();
   const Edges& EF = m.edge_faces();
   std::vector<bool> seen(m.num_faces(), false);
-  std::vector<std::array<int, 3>> order;
+  std::vector<Layout::TreeStep> order;
   order.reserve(m.num_faces());
   std::deque<int> queue{root};
   seen[root] = true;
-  order.push_back({root, -1, -1});
   while (!queue.empty()) {
     const int f = queue.front();
     queue.pop_front();
@@ -27,7 +27,8 @@ std::vector<std::array<int, 3>> dual_tree(const Mesh& m, int root) {
       const int g = EF(e, 0) == f ? EF(e, 1) : EF(e, 0);
       if (g < 0 || seen[g]) continue;
       seen[g] = true;
-      order.push_back({g, f, e});
+      const int cg = FE(g, 0) == e ? 0 : (FE(g, 1) == e ? 1 : 2);
+      order.push_back({g, f, cg, c});
       queue.push_back(g);
     }
   }
@@ -70,7 +71,7 @@ Layout::Layout(const Mesh& disk) : mesh_(&disk) {
   tree_ = dual_tree(disk, root_);
   const int n = disk.num_vertices() - 1;  // vertex 0 is pinned at the origin
 
-  local_.resize(disk.num_faces(), 3);
+  half_.resize(disk.num_faces(), 6);
   rhs_.resize(2 * std::max(n, 0));
   if (n <= 0) return;
   // Half-edge Laplacian: every half-edge (a, b) adds (x_b - x_a)^2; interior edges count twice.
@@ -111,7 +112,7 @@ std::unique_ptr<Layout> Layout::clone() const {
   copy->root_ = root_;
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
 
-  copy->local_.resize(local_.rows(), 3);
+  copy->half_.resize(half_.rows(), 6);
   copy->rhs_.resize(rhs_.size());
   return copy;
 }
@@ -127,11 +128,14 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
   const Faces& F = m.faces();
   const Faces& FE = m.face_edges();
   if (l2.size() != m.num_edges()) throw InvalidInput("layout: l2 must have one entry per edge");
-  // Corner coordinates of each face in its own frame: corner 0 at the origin, corner 1 on +x.
-  // No trigonometry: corner 2 = (l02 cos a0, l02 sin a0) = ((l01^2 + l02^2 - l12^2), 4 area) / (2 l01).
+  // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
+  // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry). Stored as
+  // its three half-edge vectors, h_k running from corner k+1 to corner k+2.
+  length_ = l2.array().sqrt();  // one (vectorised) root per edge rather than one per face corner
   for (int f = 0; f < F.rows(); ++f) {
-    const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
-    const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
+    const int* fe = &FE(f, 0);
+    const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
+    const double l[3] = {length_[fe[0]], length_[fe[1]], length_[fe[2]]};
     double x[3];
     const int longest = excesses(l, x);
     double cx, cy;
@@ -143,62 +147,63 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
       cx = longest == 0 ? -l[1] : l[1];
       cy = 0.0;
     }
-    local_.row(f) << l[2], cx, cy;
+    double* h = &half_(f, 0);
+    h[0] = cx - l[2];
+    h[1] = cy;
+    h[2] = -cx;
+    h[3] = -cy;
+    h[4] = l[2];
+    h[5] = 0.0;
   }
-  auto corner = [&](int f, int c) {
-    return c == 0 ? Eigen::Vector2d(0.0, 0.0)
-                  : (c == 1 ? Eigen::Vector2d(local_(f, 0), 0.0) : Eigen::Vector2d(local_(f, 1), local_(f, 2)));
-  };
-  auto corner_of = [&](int f, int v) {
-    return F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2);
-  };
-  // Rotations as unit complex numbers (cos, sin): the shared edge a->b must point the same way seen
-  // from both faces, i.e. rot_g = rot_f * df * conj(dg) / (|df| |dg|).
+  // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
+  // the same vector seen from both faces, run in opposite directions, so
+  // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|.
   rot_.resize(F.rows(), 2);
   rot_.row(root_) << 1.0, 0.0;
-  for (size_t k = 1; k < tree_.size(); ++k) {
-    const auto [g, f, e] = tree_[k];
-    const int a = m.edges()(e, 0), b = m.edges()(e, 1);
-    const Eigen::Vector2d df = corner(f, corner_of(f, b)) - corner(f, corner_of(f, a));
-    const Eigen::Vector2d dg = corner(g, corner_of(g, b)) - corner(g, corner_of(g, a));
-    // q = df * conj(dg)
-    const double qr = df.x() * dg.x() + df.y() * dg.y(), qi = df.y() * dg.x() - df.x() * dg.y();
-    const double fr = rot_(f, 0), fi = rot_(f, 1);
-    double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
+  for (const TreeStep& st : tree_) {
+    const double* hf = &half_(st.parent, 2 * st.parent_corner);
+    const double* hg = &half_(st.face, 2 * st.face_corner);
+    const double qr = -(hf[0] * hg[0] + hf[1] * hg[1]), qi = hf[0] * hg[1] - hf[1] * hg[0];
+    const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
+    const double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
     const double inv = 1.0 / std::sqrt(zr * zr + zi * zi);
-    rot_.row(g) << zr * inv, zi * inv;
+    rot_(st.face, 0) = zr * inv;
+    rot_(st.face, 1) = zi * inv;
   }
-  X.resize(m.num_vertices(), 2);
-  X.row(0).setZero();
+  // Least squares over all half-edge vectors: the right-hand side gathers, per vertex, the rotated
+  // half-edges arriving minus those leaving; vertex 0 is pinned at the origin.
   const int n = m.num_vertices() - 1;
+  X.resize(m.num_vertices(), 2);
+  X.setZero();
   if (n > 0) {
-    rhs_.setZero();
     for (int f = 0; f < F.rows(); ++f) {
       const double c = rot_(f, 0), s = rot_(f, 1);
+      const double* h = &half_(f, 0);
+      double v[3][2];
       for (int k = 0; k < 3; ++k) {
-        const int ka = (k + 1) % 3, kb = (k + 2) % 3;
-        const Eigen::Vector2d d = corner(f, kb) - corner(f, ka);
-        const double vx = c * d.x() - s * d.y(), vy = s * d.x() + c * d.y();
-        const int a = F(f, ka) - 1, b = F(f, kb) - 1;
-        if (b >= 0) {
-          rhs_[b] += vx;
-          rhs_[n + b] += vy;
-        }
-        if (a >= 0) {
-          rhs_[a] -= vx;
-          rhs_[n + a] -= vy;
-        }
+        v[k][0] = c * h[2 * k] - s * h[2 * k + 1];
+        v[k][1] = s * h[2 * k] + c * h[2 * k + 1];
+      }
+      for (int k = 0; k < 3; ++k) {  // corner k: h_{k+2} arrives, h_{k+1} leaves
+        const int in = (k + 2) % 3, out = (k + 1) % 3;
+        X(F(f, k), 0) += v[in][0] - v[out][0];
+        X(F(f, k), 1) += v[in][1] - v[out][1];
       }
     }
+    for (int v = 1; v <= n; ++v) {
+      rhs_[v - 1] = X(v, 0);
+      rhs_[n + v - 1] = X(v, 1);
+    }
     chol_->solve(rhs_.data(), rhs_.data(), 2);
+    X.row(0).setZero();
     for (int v = 1; v <= n; ++v) X.row(v) << rhs_[v - 1], rhs_[n + v - 1];
   }
   if (flatness) {
     double worst = 0;
     const Edges& E = m.edges();
     for (int e = 0; e < E.rows(); ++e) {
-      const double d2 = (X.row(E(e, 1)) - X.row(E(e, 0))).squaredNorm();
-      worst = std::max(worst, std::abs(d2 / l2[e] - 1.0));
+      const double dx = X(E(e, 1), 0) - X(E(e, 0), 0), dy = X(E(e, 1), 1) - X(E(e, 0), 1);
+      worst = std::max(worst, std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
     }
     *flatness = worst;
   }

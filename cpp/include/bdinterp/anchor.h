@@ -8,6 +8,7 @@
 // the weighted blend of the inputs' anchors, which keeps every input exact and is continuous.
 #pragma once
 
+#include <array>
 #include <vector>
 
 #include "bdinterp/mesh.h"
@@ -60,16 +61,19 @@ class AnchorFrame {
   Eigen::VectorXd bulk_rotations(const Positions& X) const;
 
  private:
-  double region_angle(const Eigen::VectorXd& rot) const;
+  // The region's mean rotation (branch as it falls).
+  double region_angle(const Positions& X) const;
+  // Unwrapped rotations in tree order into rot[0, #F); rot[#F, 2 #F) is scratch.
+  void unwrapped_rotations(const Positions& X, double* rot) const;
   Eigen::Vector2d point_of(const Positions& X) const;
+  double base_area(int f) const;
 
   const Mesh* mesh_;
   int vertex_;
-  double base_area(int f) const;
-
-  Positions base_;                         // the base shape (#V by 2)
-  std::vector<int> region_;                // faces around the anchor vertex; empty: every face
-  std::vector<std::array<int, 2>> tree_;   // dual breadth-first order: (face, parent)
+  Positions base_;                        // the base shape (#V by 2)
+  std::vector<std::array<int, 2>> tree_;  // dual breadth-first order: (face, parent's slot in tree_)
+  Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> base_edges_;  // per slot: s b1, s b2
+  Eigen::VectorXd weight_;                // per slot: share of the region's base area (sums to 1)
 };
 
 // The anchor of an in-between: the weighted blend of the inputs' anchors (path-corrected in Path mode).

@@ -78,11 +78,12 @@ class Flattener {
     int broken = 0;
   };
   // One pass over the faces: angle sums into grad_ (interior numbering), optionally the energy and
-  // the Hessian values into the CHOLMOD matrix.
-  Eval evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
-                bool want_hessian) const;
-  // The Hessian values at the scaled lengths left in scaled_l2_ by the last evaluate (no angles).
+  // the Hessian values into hvals_. root_l2_ must hold sqrt(l2) (see prepare).
+  Eval evaluate(const Eigen::VectorXd& u, bool want_energy, bool want_hessian) const;
+  void prepare(const Eigen::VectorXd& l2) const;  // root_l2_ = sqrt(l2)
+  // The Hessian values at the scaled lengths left by the last evaluate (no angles).
   void assemble_from_scaled() const;
+  void load_hessian();  // hvals_ into the solver's matrix
   void factorize_with_shift();
   void hessian_times(const double* x, double* y) const;  // the values in the solver times x
   int preconditioned_cg(double eta, int max_iterations);
@@ -96,10 +97,22 @@ class Flattener {
   std::vector<int> interior_vertex_;  // inverse map
   std::vector<int> diag_pos_;         // #interior: position of the diagonal entry in the values
   std::vector<int> edge_pos_;         // #E: position of the off-diagonal entry, -1 if not interior
+  // Per face, where its terms go, with the boundary sent to spare slots (row num_interior_ of grad_,
+  // entry nnz_ of hvals_) so that the face loops need no branches.
+  struct FaceSlots {
+    int edge[3];  // edge opposite corner c
+    int row[3];   // interior index of corner c
+    int diag[3];  // Hessian position of corner c's diagonal
+    int off[3];   // Hessian position of the entry of edge c
+  };
+  std::vector<FaceSlots> slots_;
+  mutable std::vector<double> hvals_;  // nnz_ + 1: the Hessian at the last evaluated u, in the
+                                       // solver's order (the shifted copy lives in the solver)
   std::unique_ptr<SparseCholesky> chol_;
-  mutable Eigen::VectorXd grad_;      // #interior, scratch
+  mutable Eigen::VectorXd grad_;      // #interior + 1, scratch
   mutable Eigen::VectorXd scaled_l2_; // #E, scratch
-  mutable Eigen::VectorXd exp_u_;     // #V, scratch
+  mutable Eigen::VectorXd scaled_len_, root_l2_;  // #E, scratch
+  mutable Eigen::VectorXd half_exp_;  // #V, scratch: exp(u / 2)
   bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
   double factor_cost_ = 0;            // estimated flops of a factorisation and of a chord step
   double chord_cost_ = 0;

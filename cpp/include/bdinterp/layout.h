@@ -30,20 +30,24 @@ class Layout {
   // The same into X (resized if needed), so that repeated frames allocate nothing.
   void embed(const Eigen::VectorXd& l2, Positions& X, double* flatness = nullptr);
 
+ // One step of the dual spanning tree: `face` is reached from `parent` across the edge opposite
+  // corner `face_corner` of face and `parent_corner` of parent.
+  struct TreeStep {
+    int face, parent, face_corner, parent_corner;
+  };
+
  private:
   explicit Layout(const Mesh* mesh) : mesh_(mesh) {}
 
   const Mesh* mesh_;
-  // Dual spanning tree in breadth-first order from a central face: (face, parent, shared edge).
-  std::vector<std::array<int, 3>> tree_;
+  std::vector<TreeStep> tree_;  // breadth-first from a central face (the root, not listed)
   int root_ = 0;
   std::unique_ptr<SparseCholesky> chol_;  // half-edge Laplacian with vertex 0 removed
-  Eigen::VectorXd phi_;                   // (unused, kept for layout compatibility)
   Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rot_;  // #F scratch: (cos, sin) per face
-  // #F scratch: each face in its own frame, corner 0 at the origin, corner 1 at (l01, 0), corner 2 at
-  // (cx, cy); rows (l01, cx, cy).
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> local_;
-  Eigen::VectorXd rhs_;                   // 2 (#V - 1) scratch
+  // #F scratch: each face in its own frame as its half-edge vectors (x, y) from corner k+1 to k+2.
+  Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> half_;
+  Eigen::VectorXd rhs_;     // 2 (#V - 1) scratch
+  Eigen::VectorXd length_;  // #E scratch: edge lengths
 };
 
 }  // namespace bdinterp

@@ -62,11 +62,11 @@ inline double fast_atan2(double y, double x) {
   return std::signbit(y) ? -a : a;
 }
 
-// l2[c]: squared length of the edge opposite corner c (> 0). Writes angle[c] (at corner c) and, if
-// `cot` is given, the cotangents. Returns true for a broken triple.
-inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
+// l[c]: length of the edge opposite corner c (> 0), l2[c] = l[c]^2. Writes angle[c] (at corner c)
+// and, if `cot` is given, the cotangents. Returns true for a broken triple.
+inline bool triangle_angles_from_lengths(const double l[3], const double l2[3], double angle[3],
+                                         double* cot = nullptr) {
   constexpr double kPi = 3.14159265358979323846;
-  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
   double x[3];
   const int longest = excesses(l, x);
   if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
@@ -74,15 +74,16 @@ inline bool triangle_angles(const double l2[3], double angle[3], double* cot = n
     if (cot) cot[0] = cot[1] = cot[2] = 0.0;
     return true;
   }
-  const double s = l[longest] + (l[(longest + 1) % 3] + l[(longest + 2) % 3]);
-  // Half-angle formula (accurate for needles and caps alike) for the two smaller angles; the
-  // largest is pi minus them, off by a few ulps of pi at most.
   const int i = (longest + 1) % 3, j = (longest + 2) % 3;
-  angle[i] = 2 * atan_positive(std::sqrt(x[j] * x[longest]), std::sqrt(s * x[i]));
-  angle[j] = 2 * atan_positive(std::sqrt(x[i] * x[longest]), std::sqrt(s * x[j]));
+  const double p = l[longest] + (l[i] + l[j]);
+  const double q = std::sqrt(p * x[0] * x[1] * x[2]);  // 4 area (Heron, Kahan's grouping)
+  // Half-angle formula, tan(a_i / 2) = sqrt(x_j x_k / (p x_i)) = q / (p x_i): accurate for needles
+  // and caps alike, for the two smaller angles; the largest is pi minus them, off by a few ulps of pi.
+  angle[i] = 2 * atan_positive(q, p * x[i]);
+  angle[j] = 2 * atan_positive(q, p * x[j]);
   angle[longest] = kPi - angle[i] - angle[j];
   if (cot) {
-    const double inv = 1.0 / std::sqrt(s * x[0] * x[1] * x[2]);  // 1 / (4 area)
+    const double inv = 1.0 / q;
     cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
     cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
     cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
@@ -90,9 +91,14 @@ inline bool triangle_angles(const double l2[3], double angle[3], double* cot = n
   return false;
 }
 
-// Cotangents only (the Hessian needs no angles); zeros and true for a broken triple.
-inline bool triangle_cotangents(const double l2[3], double cot[3]) {
+// The same from the squared lengths alone.
+inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
   const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  return triangle_angles_from_lengths(l, l2, angle, cot);
+}
+
+// Cotangents only (the Hessian needs no angles); zeros and true for a broken triple.
+inline bool triangle_cotangents_from_lengths(const double l[3], const double l2[3], double cot[3]) {
   double x[3];
   excesses(l, x);
   if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
@@ -104,6 +110,11 @@ inline bool triangle_cotangents(const double l2[3], double cot[3]) {
   cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
   cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
   return false;
+}
+
+inline bool triangle_cotangents(const double l2[3], double cot[3]) {
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  return triangle_cotangents_from_lengths(l, l2, cot);
 }
 
 }  // namespace bdinterp
