@@ -9,6 +9,7 @@
 #include <numeric>
 #include <sstream>
 
+#include "bdinterp/parallel.h"
 #include "bdinterp/triangle.h"
 
 namespace bdinterp {
@@ -62,65 +63,51 @@ double AnchorFrame::base_area(int f) const {
   return 0.5 * std::abs(b1.x() * b2.y() - b1.y() * b2.x());
 }
 
-void AnchorFrame::unwrapped_rotations(const Positions& X, double* rot) const {
+Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
   // The affine map J (base edges b_k -> edges e_k) written as J z = a z + b conj(z): its closest
   // rotation is arg(a), with a = (e1 conj(b2) - e2 conj(b1)) / (b1 conj(b2) - b2 conj(b1)) and
   // the denominator = -2i cross(b1, b2). No inverse matrices need to be stored. Each face's angle is
   // moved to within pi of its parent's; the wrapped angles differ by less than 2 pi, so one
-  // correction of 2 pi suffices (no remainder).
+  // correction of 2 pi suffices (no remainder). The centroid is accumulated in the same pass.
   constexpr double kTwoPi = 2 * kPi;
   const Faces& F = mesh_->faces();
   double* raw = rot + tree_.size();  // second half of the scratch: the angles as atan2 gives them
-  for (size_t k = 0; k < tree_.size(); ++k) {
-    const auto [f, parent] = tree_[k];
+  const long slots = static_cast<long>(tree_.size());
+  const int threads = parallel::loop_threads(slots);
+  double sx = 0, sy = 0, area = 0;  // signed: any orientation works
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(+ : sx, sy, area)
+  for (long k = 0; k < slots; ++k) {
+    const int f = tree_[k][0];
     const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
     const double e1x = X(v1, 0) - X(v0, 0), e1y = X(v1, 1) - X(v0, 1);
     const double e2x = X(v2, 0) - X(v0, 0), e2y = X(v2, 1) - X(v0, 1);
-    const double* b = &base_edges_(static_cast<Eigen::Index>(k), 0);  // s b1, s b2
+    const double* b = &base_edges_(k, 0);  // s b1, s b2
     const double num_re = (e1x * b[2] + e1y * b[3]) - (e2x * b[0] + e2y * b[1]);
     const double num_im = (e1y * b[2] - e1x * b[3]) - (e2y * b[0] - e2x * b[1]);
     raw[k] = fast_atan2(num_re, -num_im);
-    if (parent < 0) {
-      rot[k] = raw[k];
-      continue;
-    }
+    const double a = e1x * e2y - e1y * e2x;
+    sx += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
+    sy += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
+    area += a;
+  }
+  rot[0] = raw[0];
+  for (long k = 1; k < slots; ++k) {
+    const int parent = tree_[k][1];
     double d = raw[k] - raw[parent];
     if (d > kPi) d -= kTwoPi;
     else if (d < -kPi) d += kTwoPi;
     rot[k] = rot[parent] + d;
   }
+  if (vertex_ >= 0) return X.row(vertex_).transpose();
+  return Eigen::Vector2d(sx, sy) / (3 * area);
 }
 
 Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
   std::vector<double> scratch(2 * tree_.size());
-  unwrapped_rotations(X, scratch.data());
+  measure(X, scratch.data());
   Eigen::VectorXd rot(mesh_->num_faces());
   for (size_t k = 0; k < tree_.size(); ++k) rot[tree_[k][0]] = scratch[k];
   return rot;
-}
-
-double AnchorFrame::region_angle(const Positions& X) const {
-  // Scratch per thread: frames of one piece are placed concurrently by frames().
-  thread_local std::vector<double> scratch;
-  scratch.resize(2 * tree_.size());
-  unwrapped_rotations(X, scratch.data());
-  double sum = 0;
-  for (size_t k = 0; k < tree_.size(); ++k) sum += weight_[static_cast<Eigen::Index>(k)] * scratch[k];
-  return sum;
-}
-
-Eigen::Vector2d AnchorFrame::point_of(const Positions& X) const {
-  if (vertex_ >= 0) return X.row(vertex_).transpose();
-  const Faces& F = mesh_->faces();
-  double sx = 0, sy = 0, area = 0;  // signed: any orientation works
-  for (int f = 0; f < F.rows(); ++f) {
-    const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
-    const double a = (X(v1, 0) - X(v0, 0)) * (X(v2, 1) - X(v0, 1)) - (X(v1, 1) - X(v0, 1)) * (X(v2, 0) - X(v0, 0));
-    sx += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
-    sy += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
-    area += a;
-  }
-  return Eigen::Vector2d(sx, sy) / (3 * area);
 }
 
 Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
@@ -144,17 +131,29 @@ Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
 
 Frame2 AnchorFrame::measure_input(const Positions& X) const {
   const Eigen::VectorXd rot = bulk_rotations(X);
+  std::vector<double> scratch(2 * tree_.size());
+  const Eigen::Vector2d point = measure(X, scratch.data());
   double angle = 0;
   for (size_t k = 0; k < tree_.size(); ++k) angle += weight_[static_cast<Eigen::Index>(k)] * rot[tree_[k][0]];
-  return {point_of(X), angle};
+  return {point, angle};
 }
 
 void AnchorFrame::place(Positions& X, const Frame2& target) const {
-  const double turn = target.angle - region_angle(X);
+  // Scratch per thread: frames of one piece are placed concurrently by frames().
+  thread_local std::vector<double> scratch;
+  scratch.resize(2 * tree_.size());
+  const Eigen::Vector2d point = measure(X, scratch.data());
+  double angle = 0;  // the region's mean rotation, on the branch as it falls
+  for (size_t k = 0; k < tree_.size(); ++k) angle += weight_[static_cast<Eigen::Index>(k)] * scratch[k];
+  const double turn = target.angle - angle;
   const Eigen::Matrix2d R = Eigen::Rotation2Dd(turn).toRotationMatrix();
-  const Eigen::Vector2d p = R * point_of(X);
-  const Eigen::RowVector2d shift = (target.point - p).transpose();
-  X = (X * R.transpose()).rowwise() + shift;
+  const Eigen::Vector2d p = R * point;
+  const Eigen::Vector2d shift = target.point - p;
+  for (Eigen::Index v = 0; v < X.rows(); ++v) {  // in place: no temporary of X
+    const double x = X(v, 0), y = X(v, 1);
+    X(v, 0) = R(0, 0) * x + R(0, 1) * y + shift.x();
+    X(v, 1) = R(1, 0) * x + R(1, 1) * y + shift.y();
+  }
 }
 
 Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor) {

@@ -6,12 +6,15 @@
 
 #include "bdinterp/lobachevsky.h"
 #include "bdinterp/triangle.h"
+#include "bdinterp/parallel.h"
 
 namespace bdinterp {
 namespace {
 constexpr double kTwoPi = 6.28318530717958647692;
 constexpr double kHalfPi = 1.57079632679489661923;
 constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
+// CG iterations after the chord step that a factor of a neighbouring frame typically needs.
+constexpr int kFreshIterations = 1;
 }  // namespace
 
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
@@ -92,6 +95,7 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   copy->factor_reusable_ = factor_reusable_ && chol_;
   copy->factor_cost_ = factor_cost_;
   copy->chord_cost_ = chord_cost_;
+  copy->stale_cost_ = stale_cost_;
   copy->newton_c_ = newton_c_;
   return copy;
 }
@@ -112,44 +116,132 @@ inline void scatter_cotangents(const double cot[3], const int diag[3], const int
 
 void Flattener::prepare(const Eigen::VectorXd& l2) const { root_l2_ = l2.array().sqrt(); }
 
+namespace {
+
+// Multiplies the running product (re, im) of a vertex's corner factors by the unit factor (zr, zi)
+// of one more corner, whose angle is in (0, pi): the product's argument then grows by less than pi,
+// so it passed a multiple of 2 pi exactly when it moved from the lower half-plane to the upper one.
+// Whole turns are added to `sum`.
+inline void turn(double& re, double& im, double& sum, double zr, double zi) {
+  constexpr double kTwoPi = 6.28318530717958647692;
+  const double nr = re * zr - im * zi, ni = re * zi + im * zr;
+  sum += (im < 0 && !(ni < 0)) ? kTwoPi : 0.0;
+  re = nr;
+  im = ni;
+}
+
+// The argument of (re, im) in [0, 2 pi), classified by the sign of im as turn() does.
+inline double argument(double re, double im) {
+  constexpr double kTwoPi = 6.28318530717958647692;
+  return fast_atan2(im, re) + (im < 0 ? kTwoPi : 0.0);
+}
+
+}  // namespace
+
 Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
                                     bool want_hessian) const {
-  const Mesh& m = *mesh_;
-  const Edges& E = m.edges();
+  constexpr double kPi = 3.14159265358979323846;
+  const Edges& E = mesh_->edges();
+  const Eigen::Index nv = u.size(), ne = E.rows(), nf = static_cast<Eigen::Index>(slots_.size());
+  const int threads = parallel::loop_threads(nf);
+  const int rows = num_interior_ + 1;  // the last row collects the boundary corners
   // l_ij = sqrt(l2_ij) exp(u_i / 2) exp(u_j / 2): one exp per vertex, one root per edge per solve.
-  half_exp_.resize(u.size());
-  for (Eigen::Index v = 0; v < u.size(); ++v) half_exp_[v] = u[v] == 0.0 ? 1.0 : std::exp(0.5 * u[v]);
-  scaled_l2_.resize(E.rows());
-  scaled_len_.resize(E.rows());
-  for (int e = 0; e < E.rows(); ++e) {
-    const double l = root_l2_[e] * (half_exp_[E(e, 0)] * half_exp_[E(e, 1)]);
-    scaled_len_[e] = l;
-    scaled_l2_[e] = l * l;
-  }
-  Eval ev;
-  grad_.setConstant(kTwoPi);
+  half_exp_.resize(nv);
+  scaled_l2_.resize(ne);
+  scaled_len_.resize(ne);
+  inv_len_.resize(ne);
+  corner_re_.resize(rows);
+  corner_im_.resize(rows);
   double* H = want_hessian && chol_ ? hvals_.data() : nullptr;
-  if (H) std::fill(hvals_.begin(), hvals_.end(), 0.0);
+  sum_parts_.prepare(threads, rows);
+  re_parts_.prepare(threads, rows);
+  im_parts_.prepare(threads, rows);
+  if (H) hessian_parts_.prepare(threads, nnz_ + 1);
   double energy = 0;
-  double angle[3], cot[3];
-  for (const FaceSlots& s : slots_) {
-    const double fl[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
-    const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
-    ev.broken += triangle_angles_from_lengths(fl, fl2, angle, H ? cot : nullptr);
-    grad_[s.row[0]] -= angle[0];
-    grad_[s.row[1]] -= angle[1];
-    grad_[s.row[2]] -= angle[2];
-    if (want_energy) {
-      for (int c = 0; c < 3; ++c) {
-        const double lambda = std::log(fl2[c]);
-        energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - kHalfPi * lambda;
+  int broken = 0;
+#pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : energy, broken)
+  {
+#pragma omp for schedule(static)
+    for (Eigen::Index v = 0; v < nv; ++v) half_exp_[v] = u[v] == 0.0 ? 1.0 : std::exp(0.5 * u[v]);
+#pragma omp for schedule(static)
+    for (Eigen::Index e = 0; e < ne; ++e) {
+      const double l = root_l2_[e] * (half_exp_[E(e, 0)] * half_exp_[E(e, 1)]);
+      scaled_len_[e] = l;
+      scaled_l2_[e] = l * l;
+      inv_len_[e] = 1.0 / l;
+    }
+    // Angle sums without an arctangent per corner: corner c of a face has the angle
+    // arg(d_c + i q), with d_c = l_a^2 + l_b^2 - l_c^2 and q = 4 area (|d_c + i q| = 2 l_a l_b), so
+    // each vertex multiplies the unit factors of its corners and takes one argument at the end
+    // (turn() counts the whole turns). Broken faces add pi / 0 / 0 directly. Per-thread arrays.
+    const int k = parallel::thread_index();
+    double* sum = sum_parts_.buffer(k, grad_.data());
+    double* re = re_parts_.buffer(k, corner_re_.data());
+    double* im = im_parts_.buffer(k, corner_im_.data());
+    double* h = H ? hessian_parts_.buffer(k, H) : nullptr;
+    std::fill_n(sum, rows, 0.0);
+    std::fill_n(re, rows, 1.0);
+    std::fill_n(im, rows, 0.0);
+    if (h) std::fill_n(h, nnz_ + 1, 0.0);
+#pragma omp for schedule(static)
+    for (Eigen::Index f = 0; f < nf; ++f) {
+      const FaceSlots& s = slots_[f];
+      const double l[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
+      const double l2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
+      const double q = four_area(l);
+      if (!(q > 0)) {  // broken: pi opposite the longest edge, zero cotangents (CETM, Sec. 4.2)
+        const int c = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
+        sum[s.row[c]] += kPi;
+        ++broken;
+        if (want_energy) {
+          for (int m = 0; m < 3; ++m) energy += (m == c ? kPi - kHalfPi : -kHalfPi) * std::log(l2[m]);
+        }
+        continue;
+      }
+      const double d[3] = {l2[1] + l2[2] - l2[0], l2[0] + l2[2] - l2[1], l2[0] + l2[1] - l2[2]};
+      if (want_energy) {  // the line search's path: the angles themselves are needed
+        for (int c = 0; c < 3; ++c) {
+          const double angle = fast_atan2(q, d[c]);
+          const double lambda = std::log(l2[c]);
+          sum[s.row[c]] += angle;
+          energy += angle * lambda + 2 * lobachevsky(angle) - kHalfPi * lambda;
+        }
+      } else {
+        const double* inv = &inv_len_[0];
+        for (int c = 0; c < 3; ++c) {
+          const int r = s.row[c];
+          const double scale = 0.5 * inv[s.edge[(c + 1) % 3]] * inv[s.edge[(c + 2) % 3]];
+          turn(re[r], im[r], sum[r], d[c] * scale, q * scale);
+        }
+      }
+      if (h) {
+        const double half_inv_q = 0.5 / q;
+        for (int c = 0; c < 3; ++c) {
+          const double w = d[c] * half_inv_q;  // cot / 2
+          h[s.diag[(c + 1) % 3]] += w;
+          h[s.diag[(c + 2) % 3]] += w;
+          h[s.off[c]] -= w;
+        }
       }
     }
-    if (H) scatter_cotangents(cot, s.diag, s.off, H);
+    // The angle sums, every thread's share, into the gradient 2 pi - sum.
+#pragma omp for schedule(static)
+    for (int i = 0; i < num_interior_; ++i) {
+      double total = 0;
+      for (int t = 0; t < threads; ++t) {
+        total += sum_parts_.buffer(t, grad_.data())[i] +
+                 argument(re_parts_.buffer(t, corner_re_.data())[i], im_parts_.buffer(t, corner_im_.data())[i]);
+      }
+      grad_[i] = kTwoPi - total;
+    }
   }
+  grad_[num_interior_] = 0;
+  if (H) hessian_parts_.add_into(H);
   if (want_energy) {
     for (int i = 0; i < num_interior_; ++i) energy += kTwoPi * u[interior_vertex_[i]];
   }
+  Eval ev;
+  ev.broken = broken;
   ev.energy = energy;
   ev.residual = num_interior_ ? grad_.head(num_interior_).cwiseAbs().maxCoeff() : 0.0;
   return ev;
@@ -387,6 +479,16 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
         cur_energy = std::numeric_limits<double>::quiet_NaN();
         ++rep.chord_steps;
         rep.max_broken_triangles = std::max(rep.max_broken_triangles, cur.broken);
+        // Ski rental across solves: an aging factor needs more CG iterations than a fresh one
+        // would; once those extra iterations have cost as much as a factorisation, factorise the
+        // Hessian at hand so that the next solves start fresh. Never worse than twice the better
+        // of always and never refactorising.
+        stale_cost_ += std::max(0, cg_iterations - kFreshIterations) * (chol_->solve_flops() + 4.0 * nnz_);
+        if (stale_cost_ >= factor_cost_) {
+          factorize_with_shift();
+          ++rep.factorizations;
+          stale_cost_ = 0;
+        }
         // Keep chording while that is expected to be cheaper than a fresh Newton step.
         const double newton = factor_cost_ + chord_cost_;
         try_chord = chord_cost(cur.residual, options.tolerance, rate, chord_cost_) <=
@@ -404,6 +506,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
       grad_at_u = true;
     }
     factorize_with_shift();
+    stale_cost_ = 0;
     factor_cost_ = chol_->factor_flops();
     factor_reusable_ = true;
     ++rep.factorizations;

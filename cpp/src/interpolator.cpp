@@ -7,11 +7,13 @@
 #include <cmath>
 #include <deque>
 #include <exception>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
+#include "bdinterp/parallel.h"
 
 namespace bdinterp {
 
@@ -355,6 +357,9 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
   auto run = [&](int k) {
+    // One frame per core already: the loops inside a frame stay on their thread.
+    std::optional<parallel::SerialLoops> serial;
+    if (workers > 1) serial.emplace();
     const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
     const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;
     FrameStats st;

@@ -128,55 +128,71 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
   const Faces& F = m.faces();
   const Faces& FE = m.face_edges();
   if (l2.size() != m.num_edges()) throw InvalidInput("layout: l2 must have one entry per edge");
-  // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
-  // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry). Stored as
-  // its three half-edge vectors, h_k running from corner k+1 to corner k+2.
-  length_ = l2.array().sqrt();  // one (vectorised) root per edge rather than one per face corner
-  for (int f = 0; f < F.rows(); ++f) {
-    const int* fe = &FE(f, 0);
-    const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
-    const double l[3] = {length_[fe[0]], length_[fe[1]], length_[fe[2]]};
-    double x[3];
-    const int longest = excesses(l, x);
-    double cx, cy;
-    if (x[0] > 0 && x[1] > 0 && x[2] > 0) {
-      const double half_inv = 0.5 / l[2];
-      cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
-      cy = std::sqrt((l[0] + l[1] + l[2]) * x[0] * x[1] * x[2]) * half_inv;
-    } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
-      cx = longest == 0 ? -l[1] : l[1];
-      cy = 0.0;
-    }
-    double* h = &half_(f, 0);
-    h[0] = cx - l[2];
-    h[1] = cy;
-    h[2] = -cx;
-    h[3] = -cy;
-    h[4] = l[2];
-    h[5] = 0.0;
-  }
-  // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
-  // the same vector seen from both faces, run in opposite directions, so
-  // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|.
-  rot_.resize(F.rows(), 2);
-  rot_.row(root_) << 1.0, 0.0;
-  for (const TreeStep& st : tree_) {
-    const double* hf = &half_(st.parent, 2 * st.parent_corner);
-    const double* hg = &half_(st.face, 2 * st.face_corner);
-    const double qr = -(hf[0] * hg[0] + hf[1] * hg[1]), qi = hf[0] * hg[1] - hf[1] * hg[0];
-    const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
-    const double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
-    const double inv = 1.0 / std::sqrt(zr * zr + zi * zi);
-    rot_(st.face, 0) = zr * inv;
-    rot_(st.face, 1) = zi * inv;
-  }
-  // Least squares over all half-edge vectors: the right-hand side gathers, per vertex, the rotated
-  // half-edges arriving minus those leaving; vertex 0 is pinned at the origin.
-  const int n = m.num_vertices() - 1;
+  const int nf = static_cast<int>(F.rows()), ne = static_cast<int>(l2.size());
+  const int n = m.num_vertices() - 1;  // vertex 0 is pinned at the origin
+  const int threads = parallel::loop_threads(nf);
+  length_.resize(ne);
+  broken_.resize(nf);
+  rot_.resize(nf, 2);
   X.resize(m.num_vertices(), 2);
   X.setZero();
-  if (n > 0) {
-    for (int f = 0; f < F.rows(); ++f) {
+  rhs_parts_.prepare(threads, X.size());
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+#pragma omp for schedule(static)
+    for (int e = 0; e < ne; ++e) length_[e] = std::sqrt(l2[e]);
+    // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at
+    // (cx, cy) with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no
+    // trigonometry). Stored as its three half-edge vectors, h_k running from corner k+1 to k+2.
+#pragma omp for schedule(static)
+    for (int f = 0; f < nf; ++f) {
+      const int* fe = &FE(f, 0);
+      const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
+      const double l[3] = {length_[fe[0]], length_[fe[1]], length_[fe[2]]};
+      const double q = four_area(l);
+      double cx, cy;
+      broken_[f] = !(q > 0);
+      if (!broken_[f]) {
+        const double half_inv = 0.5 / l[2];
+        cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
+        cy = q * half_inv;
+      } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
+        cx = l[0] >= l[1] && l[0] >= l[2] ? -l[1] : l[1];
+        cy = 0.0;
+      }
+      double* h = &half_(f, 0);
+      h[0] = cx - l[2];
+      h[1] = cy;
+      h[2] = -cx;
+      h[3] = -cy;
+      h[4] = l[2];
+      h[5] = 0.0;
+    }
+    // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge
+    // is the same vector seen from both faces, run in opposite directions, so
+    // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a
+    // face is broken (its sides then do not close up).
+#pragma omp single
+    {
+      rot_.row(root_) << 1.0, 0.0;
+      for (const TreeStep& st : tree_) {
+        const double* hf = &half_(st.parent, 2 * st.parent_corner);
+        const double* hg = &half_(st.face, 2 * st.face_corner);
+        const double qr = -(hf[0] * hg[0] + hf[1] * hg[1]), qi = hf[0] * hg[1] - hf[1] * hg[0];
+        const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
+        const double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
+        const double inv = broken_[st.face] || broken_[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
+                                                                  : 1.0 / l2[FE(st.face, st.face_corner)];
+        rot_(st.face, 0) = zr * inv;
+        rot_(st.face, 1) = zi * inv;
+      }
+    }
+    // Least squares over all half-edge vectors: the right-hand side gathers, per vertex, the
+    // rotated half-edges arriving minus those leaving (per-thread arrays, summed below).
+    double* acc = rhs_parts_.buffer(parallel::thread_index(), X.data());  // (x, y) per vertex
+    if (acc != X.data()) std::fill_n(acc, X.size(), 0.0);
+#pragma omp for schedule(static)
+    for (int f = 0; f < nf; ++f) {
       const double c = rot_(f, 0), s = rot_(f, 1);
       const double* h = &half_(f, 0);
       double v[3][2];
@@ -186,21 +202,25 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
       }
       for (int k = 0; k < 3; ++k) {  // corner k: h_{k+2} arrives, h_{k+1} leaves
         const int in = (k + 2) % 3, out = (k + 1) % 3;
-        X(F(f, k), 0) += v[in][0] - v[out][0];
-        X(F(f, k), 1) += v[in][1] - v[out][1];
+        acc[2 * F(f, k)] += v[in][0] - v[out][0];
+        acc[2 * F(f, k) + 1] += v[in][1] - v[out][1];
       }
     }
+  }
+  rhs_parts_.add_into(X.data());
+  if (n > 0) {
     for (int v = 1; v <= n; ++v) {
       rhs_[v - 1] = X(v, 0);
       rhs_[n + v - 1] = X(v, 1);
     }
     chol_->solve(rhs_.data(), rhs_.data(), 2);
-    X.row(0).setZero();
     for (int v = 1; v <= n; ++v) X.row(v) << rhs_[v - 1], rhs_[n + v - 1];
   }
+  X.row(0).setZero();
   if (flatness) {
     double worst = 0;
     const Edges& E = m.edges();
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(max : worst)
     for (int e = 0; e < E.rows(); ++e) {
       const double dx = X(E(e, 1), 0) - X(E(e, 0), 0), dy = X(E(e, 1), 1) - X(E(e, 0), 1);
       worst = std::max(worst, std::abs((dx * dx + dy * dy) / l2[e] - 1.0));

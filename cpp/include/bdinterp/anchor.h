@@ -61,11 +61,9 @@ class AnchorFrame {
   Eigen::VectorXd bulk_rotations(const Positions& X) const;
 
  private:
-  // The region's mean rotation (branch as it falls).
-  double region_angle(const Positions& X) const;
-  // Unwrapped rotations in tree order into rot[0, #F); rot[#F, 2 #F) is scratch.
-  void unwrapped_rotations(const Positions& X, double* rot) const;
-  Eigen::Vector2d point_of(const Positions& X) const;
+  // One pass over the faces: the unwrapped rotations in tree order into rot[0, #F) (rot[#F, 2 #F)
+  // is scratch); returns the anchor point (the vertex, or the area-weighted centroid).
+  Eigen::Vector2d measure(const Positions& X, double* rot) const;
   double base_area(int f) const;
 
   const Mesh* mesh_;

@@ -12,6 +12,7 @@
 #include <memory>
 
 #include "bdinterp/mesh.h"
+#include "bdinterp/parallel.h"
 #include "bdinterp/sparse_cholesky.h"
 
 namespace bdinterp {
@@ -106,16 +107,21 @@ class Flattener {
     int off[3];   // Hessian position of the entry of edge c
   };
   std::vector<FaceSlots> slots_;
+  // Other threads' shares of an evaluation: angle sums (whole turns, broken faces), running
+  // products of the corners' unit factors, Hessian values.
+  mutable parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_;
+  mutable Eigen::VectorXd corner_re_, corner_im_;  // #interior + 1: thread 0's running products
   mutable std::vector<double> hvals_;  // nnz_ + 1: the Hessian at the last evaluated u, in the
                                        // solver's order (the shifted copy lives in the solver)
   std::unique_ptr<SparseCholesky> chol_;
   mutable Eigen::VectorXd grad_;      // #interior + 1, scratch
   mutable Eigen::VectorXd scaled_l2_; // #E, scratch
-  mutable Eigen::VectorXd scaled_len_, root_l2_;  // #E, scratch
+  mutable Eigen::VectorXd scaled_len_, root_l2_, inv_len_;  // #E, scratch
   mutable Eigen::VectorXd half_exp_;  // #V, scratch: exp(u / 2)
   bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
   double factor_cost_ = 0;            // estimated flops of a factorisation and of a chord step
   double chord_cost_ = 0;
+  double stale_cost_ = 0;             // flops spent on CG iterations a fresh factor would not need
   double evaluation_cost() const;
   double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
   Eigen::VectorXd step_, trial_;      // scratch

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bdinterp/mesh.h"
+#include "bdinterp/parallel.h"
 #include "bdinterp/sparse_cholesky.h"
 
 namespace bdinterp {
@@ -48,6 +49,8 @@ class Layout {
   Eigen::Matrix<double, Eigen::Dynamic, 6, Eigen::RowMajor> half_;
   Eigen::VectorXd rhs_;     // 2 (#V - 1) scratch
   Eigen::VectorXd length_;  // #E scratch: edge lengths
+  std::vector<char> broken_;  // #F scratch: the face's lengths violate the triangle inequality
+  parallel::Partials rhs_parts_;  // other threads' shares of the right-hand side
 };
 
 }  // namespace bdinterp

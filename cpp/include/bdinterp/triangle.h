@@ -3,6 +3,7 @@
 // zero cotangents (Springborn et al. 2008, Sec. 4.2), so callers never see NaN.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 
 namespace bdinterp {
@@ -45,6 +46,18 @@ inline int excesses(const double l[3], double x[3]) {
   x[b] = l[c] + (l[a] - l[b]);
   x[c] = l[a] + (l[b] - l[c]);
   return a;
+}
+
+// 4 * area of a triangle with side lengths l: Heron's formula in Kahan's grouping, accurate for
+// needles too; 0 for lengths that violate the triangle inequality (a broken triple). Branch-free
+// sorting by min/max.
+inline double four_area(const double l[3]) {
+  const double hi = std::max(std::max(l[0], l[1]), l[2]);
+  const double lo = std::min(std::min(l[0], l[1]), l[2]);
+  const double mid = std::max(std::min(l[0], l[1]), std::min(std::max(l[0], l[1]), l[2]));
+  const double shortfall = lo - (hi - mid);  // > 0 iff the triangle inequality holds strictly
+  if (!(shortfall > 0)) return 0.0;
+  return std::sqrt((hi + (mid + lo)) * shortfall * (lo + (hi - mid)) * (hi + (mid - lo)));
 }
 
 // atan2(y, x) for any signs, from atan_positive (same accuracy, same speed).
