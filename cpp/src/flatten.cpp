@@ -340,22 +340,33 @@ void Flattener::factorize_with_shift() {
 }
 
 void Flattener::hessian_times(const double* x, double* y) const {
+  // Lower triangle by columns: column j gives y_j its dot product and scatters x_j into the rows
+  // below it (per-thread arrays for the scatter, summed after).
   const SparseCholesky& chol = *chol_;
   const double* H = hvals_.data();
   const int* col_ptr = chol.column_pointers();
   const int* rows = chol.row_indices();
-  std::fill_n(y, num_interior_, 0.0);
-  for (int j = 0; j < num_interior_; ++j) {
-    const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
-    double acc = H[p0] * x[j];  // diagonal first in every column
-    const double xj = x[j];
-    for (int p = p0 + 1; p < p1; ++p) {
-      const int i = rows[p];
-      acc += H[p] * x[i];
-      y[i] += H[p] * xj;
+  const int n = num_interior_;
+  const int threads = parallel::loop_threads(nnz_ / 4);
+  product_parts_.prepare(threads, n);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    double* out = product_parts_.buffer(parallel::thread_index(), y);
+    std::fill_n(out, n, 0.0);
+#pragma omp for schedule(static)
+    for (int j = 0; j < n; ++j) {
+      const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
+      double acc = H[p0] * x[j];  // diagonal first in every column
+      const double xj = x[j];
+      for (int p = p0 + 1; p < p1; ++p) {
+        const int i = rows[p];
+        acc += H[p] * x[i];
+        out[i] += H[p] * xj;
+      }
+      out[j] += acc;
     }
-    y[j] += acc;
   }
+  product_parts_.add_into(y);
 }
 
 int Flattener::preconditioned_cg(double eta, int max_iterations) {
@@ -462,7 +473,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
       hessian_at_u = true;
       // Inexact Newton: the linear residual need only be small next to the tolerance and to the
       // quadratic error term; solving further costs solves without improving the accepted step.
-      const double eta = std::max(0.25 * options.tolerance,
+      const double eta = std::max(0.5 * options.tolerance,
                                   std::min(1e-3 * cur.residual, 0.1 * cur.residual * cur.residual));
       const int cg_iterations = preconditioned_cg(eta, 12);
       for (int i = 0; i < num_interior_; ++i) {

@@ -56,6 +56,11 @@ Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen:
   }
   Eigen::VectorXd out = w[0] * l2[0];
   for (size_t i = 1; i < l2.size(); ++i) out += w[static_cast<Eigen::Index>(i)] * l2[i];
+  // With weights >= 0 the blend is valid by construction (paper, Sec. 4): Euclidean squared-length
+  // triples form a convex cone, and 4 area = sqrt(Heron's quadratic form) is concave on it (a
+  // reverse triangle inequality), so a blended face's area is at least the weighted mean of the
+  // inputs' areas. Only extrapolation needs the check.
+  if ((w.array() >= 0).all()) return out;
   const Faces& FE = mesh.face_edges();
   for (int f = 0; f < FE.rows(); ++f) {
     const double a = out[FE(f, 0)], b = out[FE(f, 1)], c = out[FE(f, 2)];
