@@ -25,39 +25,12 @@ Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const
 }
 
 Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
-  const int nv = disk.num_vertices();
-  interior_index_.assign(nv, -1);
-  for (int v = 0; v < nv; ++v) {
-    if (!disk.is_boundary_vertex(v) && !disk.is_isolated_vertex(v)) {
-      interior_index_[v] = num_interior_++;
-      interior_vertex_.push_back(v);
-    }
-  }
+  std::vector<int> col_ptr, rows;
+  pattern_ = interior_pattern(disk, col_ptr, rows);
+  num_interior_ = pattern_.size();
   grad_.resize(num_interior_ + 1);
   scaled_l2_.resize(disk.num_edges());
   if (num_interior_ == 0) return;
-
-  // Lower-triangle pattern: column j holds the diagonal and the interior neighbours i > j.
-  const Edges& E = disk.edges();
-  std::vector<std::vector<std::pair<int, int>>> below(num_interior_);  // (row, edge)
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = interior_index_[E(e, 0)], b = interior_index_[E(e, 1)];
-    if (a < 0 || b < 0) continue;
-    below[std::min(a, b)].push_back({std::max(a, b), e});
-  }
-  std::vector<int> col_ptr(num_interior_ + 1, 0), rows;
-  diag_pos_.resize(num_interior_);
-  edge_pos_.assign(E.rows(), -1);
-  for (int j = 0; j < num_interior_; ++j) {
-    std::sort(below[j].begin(), below[j].end());
-    diag_pos_[j] = static_cast<int>(rows.size());
-    rows.push_back(j);
-    for (const auto& [i, e] : below[j]) {
-      edge_pos_[e] = static_cast<int>(rows.size());
-      rows.push_back(i);
-    }
-    col_ptr[j + 1] = static_cast<int>(rows.size());
-  }
   nnz_ = static_cast<int>(rows.size());
   chol_ = std::make_unique<SparseCholesky>(num_interior_, col_ptr, rows);
   hvals_.assign(nnz_ + 1, 0.0);
@@ -67,11 +40,11 @@ Flattener::Flattener(const Mesh& disk) : mesh_(&disk) {
   for (int f = 0; f < F.rows(); ++f) {
     FaceSlots& s = slots_[f];
     for (int c = 0; c < 3; ++c) {
-      const int i = interior_index_[F(f, c)];
+      const int i = pattern_.index[F(f, c)], p = pattern_.edge_pos[FE(f, c)];
       s.edge[c] = FE(f, c);
       s.row[c] = i >= 0 ? i : num_interior_;
-      s.diag[c] = i >= 0 ? diag_pos_[i] : nnz_;
-      s.off[c] = edge_pos_[FE(f, c)] >= 0 ? edge_pos_[FE(f, c)] : nnz_;
+      s.diag[c] = i >= 0 ? pattern_.diag_pos[i] : nnz_;
+      s.off[c] = p >= 0 ? p : nnz_;
     }
   }
 }
@@ -83,10 +56,7 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   std::unique_ptr<Flattener> copy(new Flattener(mesh_));
   copy->nnz_ = nnz_;
   copy->num_interior_ = num_interior_;
-  copy->interior_index_ = interior_index_;
-  copy->interior_vertex_ = interior_vertex_;
-  copy->diag_pos_ = diag_pos_;
-  copy->edge_pos_ = edge_pos_;
+  copy->pattern_ = pattern_;
   copy->slots_ = slots_;
   copy->hvals_ = hvals_;
   if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
@@ -96,6 +66,7 @@ std::unique_ptr<Flattener> Flattener::clone() const {
   copy->factor_cost_ = factor_cost_;
   copy->chord_cost_ = chord_cost_;
   copy->stale_cost_ = stale_cost_;
+  copy->shift_ = shift_;
   copy->newton_c_ = newton_c_;
   return copy;
 }
@@ -114,18 +85,21 @@ inline void scatter_cotangents(const double cot[3], const int diag[3], const int
 
 }  // namespace
 
-void Flattener::prepare(const Eigen::VectorXd& l2) const { root_l2_ = l2.array().sqrt(); }
-
 namespace {
 
-// Multiplies the running product (re, im) of a vertex's corner factors by the unit factor (zr, zi)
-// of one more corner, whose angle is in (0, pi): the product's argument then grows by less than pi,
-// so it passed a multiple of 2 pi exactly when it moved from the lower half-plane to the upper one.
-// Whole turns are added to `sum`.
-inline void turn(double& re, double& im, double& sum, double zr, double zi) {
+// Multiplies the running product (re, im) of a vertex's corner factors by the factor (cot a, 1) of
+// one more corner, whose argument is its angle a in (0, pi): the product's argument then grows by
+// less than pi, so it passed a multiple of 2 pi exactly when it moved from the lower half-plane to
+// the upper one; whole turns are added to `sum`. |factor| = 1 / sin a >= 1, so the product is
+// rescaled (by a power of two, exactly) before it can overflow.
+inline void turn(double& re, double& im, double& sum, double cot) {
   constexpr double kTwoPi = 6.28318530717958647692;
-  const double nr = re * zr - im * zi, ni = re * zi + im * zr;
+  double nr = re * cot - im, ni = re + im * cot;
   sum += (im < 0 && !(ni < 0)) ? kTwoPi : 0.0;
+  if (std::abs(nr) + std::abs(ni) > 0x1p500) {
+    nr *= 0x1p-500;
+    ni *= 0x1p-500;
+  }
   re = nr;
   im = ni;
 }
@@ -138,18 +112,16 @@ inline double argument(double re, double im) {
 
 }  // namespace
 
-Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
-                                    bool want_hessian) const {
+Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
+                                    bool want_energy, bool want_hessian) const {
   constexpr double kPi = 3.14159265358979323846;
   const Edges& E = mesh_->edges();
   const Eigen::Index nv = u.size(), ne = E.rows(), nf = static_cast<Eigen::Index>(slots_.size());
   const int threads = parallel::loop_threads(nf);
   const int rows = num_interior_ + 1;  // the last row collects the boundary corners
-  // l_ij = sqrt(l2_ij) exp(u_i / 2) exp(u_j / 2): one exp per vertex, one root per edge per solve.
-  half_exp_.resize(nv);
+  exp_u_.resize(nv);
   scaled_l2_.resize(ne);
   scaled_len_.resize(ne);
-  inv_len_.resize(ne);
   corner_re_.resize(rows);
   corner_im_.resize(rows);
   double* H = want_hessian && chol_ ? hvals_.data() : nullptr;
@@ -161,19 +133,18 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
   int broken = 0;
 #pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : energy, broken)
   {
+    // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
 #pragma omp for schedule(static)
-    for (Eigen::Index v = 0; v < nv; ++v) half_exp_[v] = u[v] == 0.0 ? 1.0 : std::exp(0.5 * u[v]);
+    for (Eigen::Index v = 0; v < nv; ++v) exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]);
 #pragma omp for schedule(static)
     for (Eigen::Index e = 0; e < ne; ++e) {
-      const double l = root_l2_[e] * (half_exp_[E(e, 0)] * half_exp_[E(e, 1)]);
-      scaled_len_[e] = l;
-      scaled_l2_[e] = l * l;
-      inv_len_[e] = 1.0 / l;
+      scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
+      scaled_len_[e] = std::sqrt(scaled_l2_[e]);
     }
     // Angle sums without an arctangent per corner: corner c of a face has the angle
-    // arg(d_c + i q), with d_c = l_a^2 + l_b^2 - l_c^2 and q = 4 area (|d_c + i q| = 2 l_a l_b), so
-    // each vertex multiplies the unit factors of its corners and takes one argument at the end
-    // (turn() counts the whole turns). Broken faces add pi / 0 / 0 directly. Per-thread arrays.
+    // arg(d_c + i q) = arg(cot_c + i), with d_c = l_a^2 + l_b^2 - l_c^2 and q = 4 area, so each
+    // vertex multiplies its corners' factors and takes one argument at the end (turn() counts the
+    // whole turns). Broken faces add pi / 0 / 0 directly. Per-thread arrays.
     const int k = parallel::thread_index();
     double* sum = sum_parts_.buffer(k, grad_.data());
     double* re = re_parts_.buffer(k, corner_re_.data());
@@ -187,42 +158,31 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
     for (Eigen::Index f = 0; f < nf; ++f) {
       const FaceSlots& s = slots_[f];
       const double l[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
-      const double l2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
+      const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
       const double q = four_area(l);
       if (!(q > 0)) {  // broken: pi opposite the longest edge, zero cotangents (CETM, Sec. 4.2)
         const int c = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
         sum[s.row[c]] += kPi;
         ++broken;
         if (want_energy) {
-          for (int m = 0; m < 3; ++m) energy += (m == c ? kPi - kHalfPi : -kHalfPi) * std::log(l2[m]);
+          for (int m = 0; m < 3; ++m) energy += (m == c ? kPi - kHalfPi : -kHalfPi) * std::log(fl2[m]);
         }
         continue;
       }
-      const double d[3] = {l2[1] + l2[2] - l2[0], l2[0] + l2[2] - l2[1], l2[0] + l2[1] - l2[2]};
+      const double inv_q = 1.0 / q;
+      const double cot[3] = {(fl2[1] + fl2[2] - fl2[0]) * inv_q, (fl2[0] + fl2[2] - fl2[1]) * inv_q,
+                             (fl2[0] + fl2[1] - fl2[2]) * inv_q};
       if (want_energy) {  // the line search's path: the angles themselves are needed
         for (int c = 0; c < 3; ++c) {
-          const double angle = fast_atan2(q, d[c]);
-          const double lambda = std::log(l2[c]);
+          const double angle = fast_atan2(1.0, cot[c]);
+          const double lambda = std::log(fl2[c]);
           sum[s.row[c]] += angle;
           energy += angle * lambda + 2 * lobachevsky(angle) - kHalfPi * lambda;
         }
       } else {
-        const double* inv = &inv_len_[0];
-        for (int c = 0; c < 3; ++c) {
-          const int r = s.row[c];
-          const double scale = 0.5 * inv[s.edge[(c + 1) % 3]] * inv[s.edge[(c + 2) % 3]];
-          turn(re[r], im[r], sum[r], d[c] * scale, q * scale);
-        }
+        for (int c = 0; c < 3; ++c) turn(re[s.row[c]], im[s.row[c]], sum[s.row[c]], cot[c]);
       }
-      if (h) {
-        const double half_inv_q = 0.5 / q;
-        for (int c = 0; c < 3; ++c) {
-          const double w = d[c] * half_inv_q;  // cot / 2
-          h[s.diag[(c + 1) % 3]] += w;
-          h[s.diag[(c + 2) % 3]] += w;
-          h[s.off[c]] -= w;
-        }
-      }
+      if (h) scatter_cotangents(cot, s.diag, s.off, h);
     }
     // The angle sums, every thread's share, into the gradient 2 pi - sum.
 #pragma omp for schedule(static)
@@ -238,7 +198,7 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& u, bool want_energy,
   grad_[num_interior_] = 0;
   if (H) hessian_parts_.add_into(H);
   if (want_energy) {
-    for (int i = 0; i < num_interior_; ++i) energy += kTwoPi * u[interior_vertex_[i]];
+    for (int i = 0; i < num_interior_; ++i) energy += kTwoPi * u[pattern_.vertex[i]];
   }
   Eval ev;
   ev.broken = broken;
@@ -264,27 +224,23 @@ void Flattener::load_hessian() { std::copy_n(hvals_.data(), nnz_, chol_->values(
 void Flattener::assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
   factor_reusable_ = false;
   if (num_interior_ == 0) return;
-  prepare(l2);
-  evaluate(u, false, true);
+  evaluate(l2, u, false, true);
   load_hessian();
 }
 
 double Flattener::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  prepare(l2);
-  return evaluate(u, true, false).energy;
+  return evaluate(l2, u, true, false).energy;
 }
 
 Eigen::VectorXd Flattener::gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  prepare(l2);
-  evaluate(u, false, false);
+  evaluate(l2, u, false, false);
   Eigen::VectorXd g = Eigen::VectorXd::Zero(mesh_->num_vertices());
-  for (int i = 0; i < num_interior_; ++i) g[interior_vertex_[i]] = grad_[i];
+  for (int i = 0; i < num_interior_; ++i) g[pattern_.vertex[i]] = grad_[i];
   return g;
 }
 
 double Flattener::residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  prepare(l2);
-  return evaluate(u, false, false).residual;
+  return evaluate(l2, u, false, false).residual;
 }
 
 Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
@@ -300,10 +256,10 @@ Eigen::SparseMatrix<double> Flattener::hessian(const Eigen::VectorXd& l2,
     if (triangle_cotangents(fl2, cot)) continue;
     for (int c = 0; c < 3; ++c) {
       const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-      if (interior_index_[a] < 0 || interior_index_[b] < 0) {
+      if (pattern_.index[a] < 0 || pattern_.index[b] < 0) {
         // Boundary rows/columns are fixed (u = 0): keep only the interior diagonal part.
-        if (interior_index_[a] >= 0) trip.emplace_back(a, a, 0.5 * cot[c]);
-        if (interior_index_[b] >= 0) trip.emplace_back(b, b, 0.5 * cot[c]);
+        if (pattern_.index[a] >= 0) trip.emplace_back(a, a, 0.5 * cot[c]);
+        if (pattern_.index[b] >= 0) trip.emplace_back(b, b, 0.5 * cot[c]);
         continue;
       }
       const double w = 0.5 * cot[c];
@@ -326,17 +282,32 @@ void Flattener::factorize_with_shift() {
   for (int attempt = 0;; ++attempt) {
     try {
       chol_->factorize();
+      shift_ = shift;
       return;
     } catch (const SolverError&) {
       if (attempt == 3) throw;
       double* H = chol_->values();
       double dmax = 0;
-      for (int p : diag_pos_) dmax = std::max(dmax, std::abs(H[p]));
+      for (int p : pattern_.diag_pos) dmax = std::max(dmax, std::abs(H[p]));
       const double add = (shift == 0 ? 1e-10 : 99 * shift) * std::max(dmax, 1.0);
-      for (int p : diag_pos_) H[p] += add;
+      for (int p : pattern_.diag_pos) H[p] += add;
       shift += add;
     }
   }
+}
+
+SparseCholesky& Flattener::factored_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
+                                            double* shift) {
+  if (num_interior_ == 0) throw SolverError("factored_hessian: the piece has no interior vertex");
+  if (!factor_reusable_) {  // e.g. an input shape, reproduced by u = 0 without any Newton step
+    evaluate(l2, u, false, true);
+    factorize_with_shift();
+    factor_cost_ = chol_->factor_flops();
+    stale_cost_ = 0;
+    factor_reusable_ = true;
+  }
+  *shift = shift_;
+  return *chol_;
 }
 
 void Flattener::hessian_times(const double* x, double* y) const {
@@ -376,23 +347,22 @@ int Flattener::preconditioned_cg(double eta, int max_iterations) {
   cg_r_.resize(n);
   cg_z_.resize(n);
   cg_p_.resize(n);
-  cg_q_.resize(n);
   for (int i = 0; i < n; ++i) step_[i] = -grad_[i];
   chol_->solve(step_.data(), step_.data());  // the chord step
-  hessian_times(step_.data(), cg_q_.data());
-  for (int i = 0; i < n; ++i) cg_r_[i] = -grad_[i] - cg_q_[i];
+  hessian_times(step_.data(), cg_z_.data());
+  for (int i = 0; i < n; ++i) cg_r_[i] = -grad_[i] - cg_z_[i];
   int it = 0;
   if (cg_r_.cwiseAbs().maxCoeff() <= eta) return it;
   chol_->solve(cg_r_.data(), cg_z_.data());
   cg_p_ = cg_z_;
   double rz = cg_r_.dot(cg_z_);
   for (it = 1; it <= max_iterations; ++it) {
-    hessian_times(cg_p_.data(), cg_q_.data());
-    const double pq = cg_p_.dot(cg_q_);
+    hessian_times(cg_p_.data(), cg_z_.data());  // q = H p, in z's storage
+    const double pq = cg_p_.dot(cg_z_);
     if (!(pq > 0)) break;
     const double alpha = rz / pq;
     step_ += alpha * cg_p_;
-    cg_r_ -= alpha * cg_q_;
+    cg_r_ -= alpha * cg_z_;
     if (cg_r_.cwiseAbs().maxCoeff() <= eta) break;
     chol_->solve(cg_r_.data(), cg_z_.data());
     const double rz_next = cg_r_.dot(cg_z_);
@@ -440,12 +410,11 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
   if (l2.size() != m.num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != m.num_vertices()) u = Eigen::VectorXd::Zero(m.num_vertices());
   for (int v = 0; v < m.num_vertices(); ++v)
-    if (interior_index_[v] < 0 || !std::isfinite(u[v])) u[v] = 0.0;
+    if (pattern_.index[v] < 0 || !std::isfinite(u[v])) u[v] = 0.0;
 
   FlattenReport rep;
-  prepare(l2);
   // One pass gives the residual and, should a step follow, the Hessian at u.
-  Eval cur = evaluate(u, false, num_interior_ > 0);  // scaled_l2_, grad_, Hessian describe u
+  Eval cur = evaluate(l2, u, false, num_interior_ > 0);  // scaled_l2_, grad_, Hessian describe u
   bool hessian_at_u = num_interior_ > 0;
   rep.max_broken_triangles = cur.broken;
   double cur_energy = std::numeric_limits<double>::quiet_NaN();
@@ -477,10 +446,10 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
                                   std::min(1e-3 * cur.residual, 0.1 * cur.residual * cur.residual));
       const int cg_iterations = preconditioned_cg(eta, 12);
       for (int i = 0; i < num_interior_; ++i) {
-        const int v = interior_vertex_[i];
+        const int v = pattern_.vertex[i];
         trial_[v] = u[v] + step_[i];
       }
-      const Eval next = evaluate(trial_, false, false);
+      const Eval next = evaluate(l2, trial_, false, false);
       chord_cost_ = (cg_iterations + 1) * (chol_->solve_flops() + 4.0 * nnz_) + evaluation_cost();
       if (std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual) {
         const double rate = next.residual / cur.residual;
@@ -513,7 +482,7 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     if (grad_at_u) {
       if (!hessian_at_u) assemble_from_scaled();
     } else {
-      evaluate(u, false, true);
+      evaluate(l2, u, false, true);
       grad_at_u = true;
     }
     factorize_with_shift();
@@ -541,16 +510,16 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
     Eval next;
     for (;;) {
       for (int i = 0; i < num_interior_; ++i) {
-        const int v = interior_vertex_[i];
+        const int v = pattern_.vertex[i];
         trial_[v] = u[v] + s * step_[i];
       }
       // Full steps that halve the residual are accepted without the energy (quadratic phase).
-      next = evaluate(trial_, false, false);
+      next = evaluate(l2, trial_, false, false);
       bool accept = std::isfinite(next.residual) && next.residual <= 0.5 * cur.residual;
       bool energy_known = false;
       if (!accept && std::isfinite(next.residual)) {
-        if (std::isnan(cur_energy)) cur_energy = evaluate(u, true, false).energy;
-        next = evaluate(trial_, true, false);
+        if (std::isnan(cur_energy)) cur_energy = evaluate(l2, u, true, false).energy;
+        next = evaluate(l2, trial_, true, false);
         const double roundoff = 1e-13 * (std::abs(cur_energy) + 1.0);
         accept = next.energy <= cur_energy + 1e-4 * s * slope ||
                  (std::abs(slope) * s < roundoff && next.residual < cur.residual);

@@ -151,7 +151,7 @@ struct Interpolator::PieceSolver {
   PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
       : piece(std::move(p)),
         flattener(piece.mesh),
-        layout(piece.mesh),
+        layout(piece.mesh, /*own_system=*/false),
         anchor(piece.mesh, local_shapes[base], anchor_vertex) {
     for (const Positions& X : local_shapes) {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
@@ -192,7 +192,10 @@ struct Interpolator::PieceSolver {
     const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
     ws.history.add(w, ws.u);
     Positions& X = ws.X;
-    ws.layout->embed(ws.flattener->flat_squared_lengths(), X, flatness);
+    // The layout solves with the flattening's factorised Hessian: no second factor.
+    double shift = 0;
+    SparseCholesky* W = ws.flattener->num_interior() > 0 ? &ws.flattener->factored_hessian(ws.l2w, ws.u, &shift) : nullptr;
+    ws.layout->embed(ws.flattener->flat_squared_lengths(), W, shift, X, flatness);
     if (mirrored) X.col(0) *= -1.0;
     anchor.place(X, blend_frames(frames, w, anchor_mode));
     for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);

@@ -66,41 +66,61 @@ int central_face(const Mesh& m) {
 
 }  // namespace
 
-Layout::Layout(const Mesh& disk) : mesh_(&disk) {
-  root_ = central_face(disk);
-  tree_ = dual_tree(disk, root_);
-  const int n = disk.num_vertices() - 1;  // vertex 0 is pinned at the origin
-
-  half_.resize(disk.num_faces(), 6);
-  rhs_.resize(2 * std::max(n, 0));
-  if (n <= 0) return;
-  // Half-edge Laplacian: every half-edge (a, b) adds (x_b - x_a)^2; interior edges count twice.
-  std::vector<std::vector<std::pair<int, double>>> below(n);
-  std::vector<double> diag(n, 0.0);
+Layout::Layout(const Mesh& disk, bool own_system) : mesh_(&disk) {
+  const Faces& F = disk.faces();
+  const Faces& FE = disk.face_edges();
   const Edges& E = disk.edges();
   const Edges& EF = disk.edge_faces();
+  root_ = central_face(disk);
+  tree_ = dual_tree(disk, root_);
+  std::vector<int> col_ptr, rows;
+  pattern_ = interior_pattern(disk, col_ptr, rows);
+  const int n = pattern_.size();
+  auto corner_of_edge = [&](int f, int e) { return FE(f, 0) == e ? 0 : (FE(f, 1) == e ? 1 : 2); };
+  // The boundary half-edges (each face's half-edge c runs from corner c+1 to corner c+2, so the
+  // interior lies to their left), chained into the loop from its smallest vertex.
+  std::vector<HalfEdge> leaving(disk.num_vertices(), HalfEdge{-1, -1, 1.0});
+  int start = -1;
   for (int e = 0; e < E.rows(); ++e) {
-    const double w = EF(e, 1) >= 0 ? 2.0 : 1.0;
-    const int a = E(e, 0) - 1, b = E(e, 1) - 1;  // a < b
-    if (a >= 0) diag[a] += w;
-    if (b >= 0) diag[b] += w;
-    if (a >= 0) below[a].push_back({b, -w});
+    if (EF(e, 1) >= 0) continue;
+    const int f = EF(e, 0), c = corner_of_edge(f, e), a = F(f, (c + 1) % 3);
+    leaving[a] = {f, c, 1.0};
+    if (start < 0 || a < start) start = a;
   }
-  std::vector<int> col_ptr(n + 1, 0), rows;
-  std::vector<double> vals;
-  for (int j = 0; j < n; ++j) {
-    std::sort(below[j].begin(), below[j].end());
-    rows.push_back(j);
-    vals.push_back(diag[j]);
-    for (const auto& [i, w] : below[j]) {
-      rows.push_back(i);
-      vals.push_back(w);
-    }
-    col_ptr[j + 1] = static_cast<int>(rows.size());
+  for (int v = start; v >= 0 && loop_.size() < leaving.size();) {
+    loop_.push_back(v);
+    loop_edges_.push_back(leaving[v]);
+    v = F(leaving[v].face, (leaving[v].corner + 2) % 3);
+    if (v == start) break;
   }
-  chol_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
-  std::copy(vals.begin(), vals.end(), chol_->values());
-  chol_->factorize();
+  // One tie to the boundary for every interior vertex next to it.
+  std::vector<bool> tied(n, false);
+  for (int e = 0; e < E.rows(); ++e) {
+    const int ia = pattern_.index[E(e, 0)], ib = pattern_.index[E(e, 1)];
+    if ((ia >= 0) == (ib >= 0)) continue;
+    const int row = ia >= 0 ? ia : ib, boundary = ia >= 0 ? E(e, 1) : E(e, 0);
+    if (tied[row]) continue;
+    tied[row] = true;
+    const int f = EF(e, 0), c = corner_of_edge(f, e);
+    ties_.push_back({row, boundary, {f, c, F(f, (c + 1) % 3) == boundary ? 1.0 : -1.0}});
+  }
+  local_.resize(disk.num_faces(), 3);
+  rot_.resize(disk.num_faces(), 2);
+  broken_.resize(disk.num_faces());
+  rhs_.resize(2 * n);
+  row_sum_.resize(n);
+  if (!own_system || n == 0) return;
+  // The uniform graph Laplacian: weight 1 per edge (boundary edges in the diagonal).
+  own_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
+  double* W = own_->values();
+  std::fill_n(W, rows.size(), 0.0);
+  for (int e = 0; e < E.rows(); ++e) {
+    const int ia = pattern_.index[E(e, 0)], ib = pattern_.index[E(e, 1)];
+    if (ia >= 0) W[pattern_.diag_pos[ia]] += 1.0;
+    if (ib >= 0) W[pattern_.diag_pos[ib]] += 1.0;
+    if (pattern_.edge_pos[e] >= 0) W[pattern_.edge_pos[e]] = -1.0;
+  }
+  own_->factorize();
 }
 
 Layout::Layout(Layout&&) noexcept = default;
@@ -108,12 +128,18 @@ Layout::~Layout() = default;
 
 std::unique_ptr<Layout> Layout::clone() const {
   std::unique_ptr<Layout> copy(new Layout(mesh_));
+  copy->pattern_ = pattern_;
   copy->tree_ = tree_;
   copy->root_ = root_;
-  if (chol_) copy->chol_ = std::make_unique<SparseCholesky>(chol_->clone());
-
-  copy->half_.resize(half_.rows(), 6);
+  copy->loop_ = loop_;
+  copy->loop_edges_ = loop_edges_;
+  copy->ties_ = ties_;
+  if (own_) copy->own_ = std::make_unique<SparseCholesky>(own_->clone());
+  copy->local_.resize(local_.rows(), 3);
+  copy->rot_.resize(rot_.rows(), 2);
+  copy->broken_.resize(broken_.size());
   copy->rhs_.resize(rhs_.size());
+  copy->row_sum_.resize(row_sum_.size());
   return copy;
 }
 
@@ -124,99 +150,93 @@ Positions Layout::embed(const Eigen::VectorXd& l2, double* flatness) {
 }
 
 void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
+  if (!own_ && pattern_.size() > 0) throw InvalidInput("layout: built without a system of its own");
+  embed(l2, own_.get(), 0.0, X, flatness);
+}
+
+void Layout::vector_of(const HalfEdge& h, double* v) const {
+  const double* p = &local_(h.face, 0);  // (l01, cx, cy): half-edge c runs from corner c+1 to c+2
+  const double hx = h.corner == 0 ? p[1] - p[0] : (h.corner == 1 ? -p[1] : p[0]);
+  const double hy = h.corner == 0 ? p[2] : (h.corner == 1 ? -p[2] : 0.0);
+  const double c = rot_(h.face, 0), s = rot_(h.face, 1);
+  v[0] = h.sign * (c * hx - s * hy);
+  v[1] = h.sign * (s * hx + c * hy);
+}
+
+void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
+                   double* flatness) {
   const Mesh& m = *mesh_;
   const Faces& F = m.faces();
   const Faces& FE = m.face_edges();
   if (l2.size() != m.num_edges()) throw InvalidInput("layout: l2 must have one entry per edge");
-  const int nf = static_cast<int>(F.rows()), ne = static_cast<int>(l2.size());
-  const int n = m.num_vertices() - 1;  // vertex 0 is pinned at the origin
+  const int nf = static_cast<int>(F.rows()), n = pattern_.size();
+  if (n > 0 && (!W || W->size() != n)) throw InvalidInput("layout: the system does not match the mesh");
   const int threads = parallel::loop_threads(nf);
-  length_.resize(ne);
-  broken_.resize(nf);
-  rot_.resize(nf, 2);
+  // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
+  // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry).
+#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
+  for (int f = 0; f < nf; ++f) {
+    const int* fe = &FE(f, 0);
+    const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
+    const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
+    const double q = four_area(l);
+    broken_[f] = !(q > 0);
+    double cx, cy;
+    if (!broken_[f]) {
+      const double half_inv = 0.5 / l[2];
+      cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
+      cy = q * half_inv;
+    } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
+      cx = l[0] >= l[1] && l[0] >= l[2] ? -l[1] : l[1];
+      cy = 0.0;
+    }
+    local_.row(f) << l[2], cx, cy;
+  }
+  // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
+  // the same vector seen from both faces, run in opposite directions, so
+  // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a face
+  // is broken (its sides then do not close up).
+  rot_.row(root_) << 1.0, 0.0;
+  auto local_half_edge = [&](int f, int c, double* h) {  // corner c+1 -> c+2, in f's own frame
+    const double* p = &local_(f, 0);
+    h[0] = c == 0 ? p[1] - p[0] : (c == 1 ? -p[1] : p[0]);
+    h[1] = c == 0 ? p[2] : (c == 1 ? -p[2] : 0.0);
+  };
+  for (const TreeStep& st : tree_) {
+    double lf[2], hg[2];
+    local_half_edge(st.parent, st.parent_corner, lf);
+    local_half_edge(st.face, st.face_corner, hg);
+    const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
+    const double hf[2] = {fr * lf[0] - fi * lf[1], fi * lf[0] + fr * lf[1]};
+    const double zr = -(hf[0] * hg[0] + hf[1] * hg[1]), zi = hf[0] * hg[1] - hf[1] * hg[0];
+    const double inv = broken_[st.face] || broken_[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
+                                                              : 1.0 / l2[FE(st.face, st.face_corner)];
+    rot_(st.face, 0) = zr * inv;
+    rot_(st.face, 1) = zi * inv;
+  }
+  // The boundary: walk the loop, then spread the closing gap over it by arc length.
   X.resize(m.num_vertices(), 2);
   X.setZero();
-  rhs_parts_.prepare(threads, X.size());
-#pragma omp parallel num_threads(threads) if (threads > 1)
   {
-#pragma omp for schedule(static)
-    for (int e = 0; e < ne; ++e) length_[e] = std::sqrt(l2[e]);
-    // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at
-    // (cx, cy) with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no
-    // trigonometry). Stored as its three half-edge vectors, h_k running from corner k+1 to k+2.
-#pragma omp for schedule(static)
-    for (int f = 0; f < nf; ++f) {
-      const int* fe = &FE(f, 0);
-      const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
-      const double l[3] = {length_[fe[0]], length_[fe[1]], length_[fe[2]]};
-      const double q = four_area(l);
-      double cx, cy;
-      broken_[f] = !(q > 0);
-      if (!broken_[f]) {
-        const double half_inv = 0.5 / l[2];
-        cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
-        cy = q * half_inv;
-      } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
-        cx = l[0] >= l[1] && l[0] >= l[2] ? -l[1] : l[1];
-        cy = 0.0;
-      }
-      double* h = &half_(f, 0);
-      h[0] = cx - l[2];
-      h[1] = cy;
-      h[2] = -cx;
-      h[3] = -cy;
-      h[4] = l[2];
-      h[5] = 0.0;
+    const size_t nb = loop_.size();
+    std::vector<double> arc(nb + 1, 0.0);
+    double px = 0, py = 0;
+    for (size_t k = 0; k < nb; ++k) {
+      X(loop_[k], 0) = px;
+      X(loop_[k], 1) = py;
+      double v[2];
+      vector_of(loop_edges_[k], v);
+      px += v[0];
+      py += v[1];
+      arc[k + 1] = arc[k] + std::sqrt(v[0] * v[0] + v[1] * v[1]);
     }
-    // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge
-    // is the same vector seen from both faces, run in opposite directions, so
-    // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a
-    // face is broken (its sides then do not close up).
-#pragma omp single
-    {
-      rot_.row(root_) << 1.0, 0.0;
-      for (const TreeStep& st : tree_) {
-        const double* hf = &half_(st.parent, 2 * st.parent_corner);
-        const double* hg = &half_(st.face, 2 * st.face_corner);
-        const double qr = -(hf[0] * hg[0] + hf[1] * hg[1]), qi = hf[0] * hg[1] - hf[1] * hg[0];
-        const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
-        const double zr = fr * qr - fi * qi, zi = fr * qi + fi * qr;
-        const double inv = broken_[st.face] || broken_[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
-                                                                  : 1.0 / l2[FE(st.face, st.face_corner)];
-        rot_(st.face, 0) = zr * inv;
-        rot_(st.face, 1) = zi * inv;
-      }
-    }
-    // Least squares over all half-edge vectors: the right-hand side gathers, per vertex, the
-    // rotated half-edges arriving minus those leaving (per-thread arrays, summed below).
-    double* acc = rhs_parts_.buffer(parallel::thread_index(), X.data());  // (x, y) per vertex
-    if (acc != X.data()) std::fill_n(acc, X.size(), 0.0);
-#pragma omp for schedule(static)
-    for (int f = 0; f < nf; ++f) {
-      const double c = rot_(f, 0), s = rot_(f, 1);
-      const double* h = &half_(f, 0);
-      double v[3][2];
-      for (int k = 0; k < 3; ++k) {
-        v[k][0] = c * h[2 * k] - s * h[2 * k + 1];
-        v[k][1] = s * h[2 * k] + c * h[2 * k + 1];
-      }
-      for (int k = 0; k < 3; ++k) {  // corner k: h_{k+2} arrives, h_{k+1} leaves
-        const int in = (k + 2) % 3, out = (k + 1) % 3;
-        acc[2 * F(f, k)] += v[in][0] - v[out][0];
-        acc[2 * F(f, k) + 1] += v[in][1] - v[out][1];
-      }
+    for (size_t k = 1; k < nb; ++k) {
+      const double a = arc[k] / arc[nb];
+      X(loop_[k], 0) -= a * px;
+      X(loop_[k], 1) -= a * py;
     }
   }
-  rhs_parts_.add_into(X.data());
-  if (n > 0) {
-    for (int v = 1; v <= n; ++v) {
-      rhs_[v - 1] = X(v, 0);
-      rhs_[n + v - 1] = X(v, 1);
-    }
-    chol_->solve(rhs_.data(), rhs_.data(), 2);
-    for (int v = 1; v <= n; ++v) X.row(v) << rhs_[v - 1], rhs_[n + v - 1];
-  }
-  X.row(0).setZero();
+  if (n > 0) solve_interior(*W, shift, X);
   if (flatness) {
     double worst = 0;
     const Edges& E = m.edges();
@@ -226,6 +246,84 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
       worst = std::max(worst, std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
     }
     *flatness = worst;
+  }
+}
+
+void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
+  const Faces& F = mesh_->faces();
+  const Faces& FE = mesh_->face_edges();
+  const int nf = static_cast<int>(F.rows()), n = pattern_.size();
+  const double* M = W.values();
+  const int* col_ptr = W.column_pointers();
+  const int* rows = W.row_indices();
+  // For an exact layout X, (W X)_i = sum_j w_ij (X_i - X_j) + r_i X_i over the interior neighbours
+  // j, with w_ij = -W_ij and r_i the row sum of W (the weight of i's boundary edges). The edge
+  // differences come from the faces (each interior edge half from either side), X_i in the last
+  // term from a boundary neighbour and the edge to it.
+  row_sum_.setZero();
+  for (int j = 0; j < n; ++j) {
+    row_sum_[j] += M[col_ptr[j]] - shift;
+    for (int p = col_ptr[j] + 1; p < col_ptr[j + 1]; ++p) {
+      row_sum_[j] += M[p];
+      row_sum_[rows[p]] += M[p];
+    }
+  }
+  const int threads = parallel::loop_threads(nf);
+  rhs_.setZero();
+  rhs_parts_.prepare(threads, 2 * n);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    double* b = rhs_parts_.buffer(parallel::thread_index(), rhs_.data());
+    if (b != rhs_.data()) std::fill_n(b, 2 * n, 0.0);
+#pragma omp for schedule(static)
+    for (int f = 0; f < nf; ++f) {
+      const double l01 = local_(f, 0), cx = local_(f, 1), cy = local_(f, 2);
+      const double h[3][2] = {{cx - l01, cy}, {-cx, -cy}, {l01, 0.0}};  // corner c+1 -> c+2
+      const double rc = rot_(f, 0), rs = rot_(f, 1);
+      for (int c = 0; c < 3; ++c) {
+        const int p = pattern_.edge_pos[FE(f, c)];
+        if (p < 0) continue;
+        const int i = pattern_.index[F(f, (c + 1) % 3)], j = pattern_.index[F(f, (c + 2) % 3)];
+        const double w = 0.5 * M[p];  // = -(half the weight)
+        const double dx = w * (rc * h[c][0] - rs * h[c][1]), dy = w * (rs * h[c][0] + rc * h[c][1]);
+        b[i] += dx;  // w (X_j - X_i) as this face sees it
+        b[n + i] += dy;
+        b[j] -= dx;
+        b[n + j] -= dy;
+      }
+    }
+  }
+  rhs_parts_.add_into(rhs_.data());
+  for (const Tie& t : ties_) {
+    double d[2];
+    vector_of(t.edge, d);
+    rhs_[t.row] += row_sum_[t.row] * (X(t.boundary, 0) + d[0]);
+    rhs_[n + t.row] += row_sum_[t.row] * (X(t.boundary, 1) + d[1]);
+  }
+  const Eigen::VectorXd b = shift > 0 ? rhs_ : Eigen::VectorXd();  // kept only for the refinement
+  Eigen::VectorXd& x = rhs_;
+  W.solve(x.data(), x.data(), 2);
+  // The factorised matrix is W + shift I: iterative refinement recovers the solution for W.
+  for (int it = 0; it < 5 && shift > 0; ++it) {
+    Eigen::VectorXd r = b;
+    for (int col = 0; col < 2; ++col) {
+      const double* xc = x.data() + col * n;
+      double* rc = r.data() + col * n;
+      for (int j = 0; j < n; ++j) {
+        rc[j] -= (M[col_ptr[j]] - shift) * xc[j];
+        for (int p = col_ptr[j] + 1; p < col_ptr[j + 1]; ++p) {
+          rc[rows[p]] -= M[p] * xc[j];
+          rc[j] -= M[p] * xc[rows[p]];
+        }
+      }
+    }
+    W.solve(r.data(), r.data(), 2);
+    x += r;
+    if (r.cwiseAbs().maxCoeff() <= 1e-15 * x.cwiseAbs().maxCoeff()) break;
+  }
+  for (int i = 0; i < n; ++i) {
+    X(pattern_.vertex[i], 0) = x[i];
+    X(pattern_.vertex[i], 1) = x[n + i];
   }
 }
 

@@ -234,4 +234,38 @@ std::vector<Piece> split_into_disks(const Mesh& mesh) {
   return pieces;
 }
 
+InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows) {
+  InteriorPattern p;
+  const int nv = disk.num_vertices();
+  p.index.assign(nv, -1);
+  for (int v = 0; v < nv; ++v) {
+    if (!disk.is_boundary_vertex(v) && !disk.is_isolated_vertex(v)) {
+      p.index[v] = static_cast<int>(p.vertex.size());
+      p.vertex.push_back(v);
+    }
+  }
+  const int n = p.size();
+  const Edges& E = disk.edges();
+  std::vector<std::vector<std::pair<int, int>>> below(n);  // per column: (row, edge)
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = p.index[E(e, 0)], b = p.index[E(e, 1)];
+    if (a >= 0 && b >= 0) below[std::min(a, b)].push_back({std::max(a, b), e});
+  }
+  col_ptr.assign(n + 1, 0);
+  rows.clear();
+  p.diag_pos.resize(n);
+  p.edge_pos.assign(E.rows(), -1);
+  for (int j = 0; j < n; ++j) {
+    std::sort(below[j].begin(), below[j].end());
+    p.diag_pos[j] = static_cast<int>(rows.size());
+    rows.push_back(j);
+    for (const auto& [i, e] : below[j]) {
+      p.edge_pos[e] = static_cast<int>(rows.size());
+      rows.push_back(i);
+    }
+    col_ptr[j + 1] = static_cast<int>(rows.size());
+  }
+  return p;
+}
+
 }  // namespace bdinterp

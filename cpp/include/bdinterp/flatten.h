@@ -64,13 +64,19 @@ class Flattener {
   // the next call of any evaluating method), so the layout need not recompute them.
   const Eigen::VectorXd& flat_squared_lengths() const { return scaled_l2_; }
   int num_interior() const { return num_interior_; }
+  // The interior numbering and Hessian pattern (see interior_pattern).
+  const InteriorPattern& pattern() const { return pattern_; }
+  // For the layout: a factorised symmetric positive definite matrix over pattern() whose values()
+  // are the matrix that was factorised (the Hessian at the last factorisation, plus `*shift` on the
+  // diagonal). Factorises the Hessian at (l2, u) if no factorisation is at hand.
+  SparseCholesky& factored_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, double* shift);
   // Benchmarks: loads the Hessian at (l2, u) into the solver (no factorisation) and gives access to
   // it; the next solve() will not reuse the factorisation that was there.
   void assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   SparseCholesky* cholesky() { factor_reusable_ = false; return chol_.get(); }
   // Forgets the reusable factorisation, so the next solve starts with a fresh Newton step.
   void forget() { factor_reusable_ = false; }
-  bool is_interior(int v) const { return interior_index_[v] >= 0; }
+  bool is_interior(int v) const { return pattern_.index[v] >= 0; }
 
  private:
   struct Eval {
@@ -79,9 +85,9 @@ class Flattener {
     int broken = 0;
   };
   // One pass over the faces: angle sums into grad_ (interior numbering), optionally the energy and
-  // the Hessian values into hvals_. root_l2_ must hold sqrt(l2) (see prepare).
-  Eval evaluate(const Eigen::VectorXd& u, bool want_energy, bool want_hessian) const;
-  void prepare(const Eigen::VectorXd& l2) const;  // root_l2_ = sqrt(l2)
+  // the Hessian values into hvals_.
+  Eval evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
+                bool want_hessian) const;
   // The Hessian values at the scaled lengths left by the last evaluate (no angles).
   void assemble_from_scaled() const;
   void load_hessian();  // hvals_ into the solver's matrix
@@ -94,10 +100,7 @@ class Flattener {
   const Mesh* mesh_;
   int num_interior_ = 0;
   int nnz_ = 0;
-  std::vector<int> interior_index_;  // #V, -1 on the boundary
-  std::vector<int> interior_vertex_;  // inverse map
-  std::vector<int> diag_pos_;         // #interior: position of the diagonal entry in the values
-  std::vector<int> edge_pos_;         // #E: position of the off-diagonal entry, -1 if not interior
+  InteriorPattern pattern_;
   // Per face, where its terms go, with the boundary sent to spare slots (row num_interior_ of grad_,
   // entry nnz_ of hvals_) so that the face loops need no branches.
   struct FaceSlots {
@@ -116,8 +119,9 @@ class Flattener {
   std::unique_ptr<SparseCholesky> chol_;
   mutable Eigen::VectorXd grad_;      // #interior + 1, scratch
   mutable Eigen::VectorXd scaled_l2_; // #E, scratch
-  mutable Eigen::VectorXd scaled_len_, root_l2_, inv_len_;  // #E, scratch
-  mutable Eigen::VectorXd half_exp_;  // #V, scratch: exp(u / 2)
+  mutable Eigen::VectorXd scaled_len_;  // #E, scratch
+  mutable Eigen::VectorXd exp_u_;     // #V, scratch
+  double shift_ = 0;                  // diagonal shift of the factorisation in chol_
   bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
   double factor_cost_ = 0;            // estimated flops of a factorisation and of a chord step
   double chord_cost_ = 0;
@@ -125,7 +129,7 @@ class Flattener {
   double evaluation_cost() const;
   double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
   Eigen::VectorXd step_, trial_;      // scratch
-  Eigen::VectorXd cg_r_, cg_z_, cg_p_, cg_q_;
+  Eigen::VectorXd cg_r_, cg_z_, cg_p_;  // H p shares cg_z_ (never both alive)
 };
 
 // One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.

@@ -58,6 +58,20 @@ struct Piece {
   std::vector<int> faces;
 };
 
+// The interior vertices of a disk (neither on the boundary nor isolated), numbered in increasing
+// vertex order, and the positions of the entries of their vertex-adjacency matrix in its lower
+// triangle stored by compressed columns (rows sorted, diagonal first): the sparsity of the
+// flattening's Hessian, which the layout reuses.
+struct InteriorPattern {
+  std::vector<int> index;     // #V: interior number, -1 for boundary and isolated vertices
+  std::vector<int> vertex;    // #interior: the vertex of each interior number
+  std::vector<int> diag_pos;  // #interior: position of the diagonal entry
+  std::vector<int> edge_pos;  // #E: position of the entry of an edge between interior vertices, else -1
+  int size() const { return static_cast<int>(vertex.size()); }
+};
+// col_ptr (#interior + 1) and rows (nnz) receive the compressed-column pattern itself.
+InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows);
+
 // Splits `mesh` into its pieces and checks each is a topological disk (exactly one boundary loop);
 // throws InvalidInput for a piece with holes or without boundary.
 std::vector<Piece> split_into_disks(const Mesh& mesh);
