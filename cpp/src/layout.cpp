@@ -64,6 +64,13 @@ int central_face(const Mesh& m) {
   return last;
 }
 
+// Half-edge c (from corner c+1 to corner c+2) of a face stored as p = (l01, cx, cy): corner 0 at
+// the origin, corner 1 at (l01, 0), corner 2 at (cx, cy).
+inline void local_half_edge(const double* p, int c, double* h) {
+  h[0] = c == 0 ? p[1] - p[0] : (c == 1 ? -p[1] : p[0]);
+  h[1] = c == 0 ? p[2] : (c == 1 ? -p[2] : 0.0);
+}
+
 }  // namespace
 
 Layout::Layout(const Mesh& disk, bool own_system) : mesh_(&disk) {
@@ -155,12 +162,11 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
 }
 
 void Layout::vector_of(const HalfEdge& h, double* v) const {
-  const double* p = &local_(h.face, 0);  // (l01, cx, cy): half-edge c runs from corner c+1 to c+2
-  const double hx = h.corner == 0 ? p[1] - p[0] : (h.corner == 1 ? -p[1] : p[0]);
-  const double hy = h.corner == 0 ? p[2] : (h.corner == 1 ? -p[2] : 0.0);
+  double e[2];
+  local_half_edge(&local_(h.face, 0), h.corner, e);
   const double c = rot_(h.face, 0), s = rot_(h.face, 1);
-  v[0] = h.sign * (c * hx - s * hy);
-  v[1] = h.sign * (s * hx + c * hy);
+  v[0] = h.sign * (c * e[0] - s * e[1]);
+  v[1] = h.sign * (s * e[0] + c * e[1]);
 }
 
 void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
@@ -197,17 +203,10 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a face
   // is broken (its sides then do not close up).
   rot_.row(root_) << 1.0, 0.0;
-  auto local_half_edge = [&](int f, int c, double* h) {  // corner c+1 -> c+2, in f's own frame
-    const double* p = &local_(f, 0);
-    h[0] = c == 0 ? p[1] - p[0] : (c == 1 ? -p[1] : p[0]);
-    h[1] = c == 0 ? p[2] : (c == 1 ? -p[2] : 0.0);
-  };
   for (const TreeStep& st : tree_) {
-    double lf[2], hg[2];
-    local_half_edge(st.parent, st.parent_corner, lf);
-    local_half_edge(st.face, st.face_corner, hg);
-    const double fr = rot_(st.parent, 0), fi = rot_(st.parent, 1);
-    const double hf[2] = {fr * lf[0] - fi * lf[1], fi * lf[0] + fr * lf[1]};
+    double hf[2], hg[2];
+    vector_of({st.parent, st.parent_corner, 1.0}, hf);  // rotated by rot_f already
+    local_half_edge(&local_(st.face, 0), st.face_corner, hg);
     const double zr = -(hf[0] * hg[0] + hf[1] * hg[1]), zi = hf[0] * hg[1] - hf[1] * hg[0];
     const double inv = broken_[st.face] || broken_[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
                                                               : 1.0 / l2[FE(st.face, st.face_corner)];
@@ -277,19 +276,18 @@ void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
     if (b != rhs_.data()) std::fill_n(b, 2 * n, 0.0);
 #pragma omp for schedule(static)
     for (int f = 0; f < nf; ++f) {
-      const double l01 = local_(f, 0), cx = local_(f, 1), cy = local_(f, 2);
-      const double h[3][2] = {{cx - l01, cy}, {-cx, -cy}, {l01, 0.0}};  // corner c+1 -> c+2
-      const double rc = rot_(f, 0), rs = rot_(f, 1);
+      double h[3][2];  // the face's rotated half-edges
+      for (int c = 0; c < 3; ++c) vector_of({f, c, 1.0}, h[c]);
       for (int c = 0; c < 3; ++c) {
         const int p = pattern_.edge_pos[FE(f, c)];
         if (p < 0) continue;
         const int i = pattern_.index[F(f, (c + 1) % 3)], j = pattern_.index[F(f, (c + 2) % 3)];
+        const double* d = h[c];  // X_j - X_i as this face sees it
         const double w = 0.5 * M[p];  // = -(half the weight)
-        const double dx = w * (rc * h[c][0] - rs * h[c][1]), dy = w * (rs * h[c][0] + rc * h[c][1]);
-        b[i] += dx;  // w (X_j - X_i) as this face sees it
-        b[n + i] += dy;
-        b[j] -= dx;
-        b[n + j] -= dy;
+        b[i] += w * d[0];
+        b[n + i] += w * d[1];
+        b[j] -= w * d[0];
+        b[n + j] -= w * d[1];
       }
     }
   }

@@ -28,6 +28,68 @@ struct CurvedMetric : ::testing::Test {
   }
 };
 
+// 2 pi - angle sum at every interior vertex, straight from the law of cosines (atan2 of 4 area and
+// twice the adjacent sides' dot product), (pi, 0, 0) for broken faces: an independent reference
+// for the solver's arctangent-free angle sums.
+Eigen::VectorXd reference_gradient(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
+  constexpr double kPi = 3.14159265358979323846;
+  const Eigen::VectorXd s = scale_lengths(mesh, l2, u);
+  Eigen::VectorXd sum = Eigen::VectorXd::Zero(mesh.num_vertices());
+  for (int f = 0; f < mesh.num_faces(); ++f) {
+    double a2[3], a[3];
+    for (int c = 0; c < 3; ++c) a[c] = std::sqrt(a2[c] = s[mesh.face_edges()(f, c)]);
+    const int longest = a[0] >= a[1] && a[0] >= a[2] ? 0 : (a[1] >= a[2] ? 1 : 2);
+    const double rest = a[(longest + 1) % 3] + a[(longest + 2) % 3];
+    for (int c = 0; c < 3; ++c) {
+      double angle = c == longest ? kPi : 0.0;
+      if (a[longest] < rest) {
+        const double d = a2[(c + 1) % 3] + a2[(c + 2) % 3] - a2[c];
+        const double q2 = 4 * a2[(c + 1) % 3] * a2[(c + 2) % 3] - d * d;
+        angle = std::atan2(std::sqrt(std::max(q2, 0.0)), d);
+      }
+      sum[mesh.faces()(f, c)] += angle;
+    }
+  }
+  Eigen::VectorXd g = Eigen::VectorXd::Zero(mesh.num_vertices());
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (!mesh.is_boundary_vertex(v)) g[v] = 2 * kPi - sum[v];
+  return g;
+}
+
+TEST_F(CurvedMetric, AngleSumsMatchTheLawOfCosinesFarFromFlat) {
+  // Far from flat: sums well away from 2 pi (whole extra turns included) and broken faces.
+  Flattener fl(mesh);
+  for (const double scale : {0.0, 0.3, 3.0}) {
+    const Eigen::VectorXd u = random_u(scale, 11);
+    const Eigen::VectorXd g = fl.gradient(l2, u), ref = reference_gradient(mesh, l2, u);
+    EXPECT_LT((g - ref).cwiseAbs().maxCoeff(), 1e-9) << "scale " << scale;
+    if (scale == 3.0) EXPECT_GT(ref.cwiseAbs().maxCoeff(), 3.2);  // more than half a turn off
+  }
+}
+
+TEST(Flatten, AngleSumsAtAVertexOfValence400) {
+  // A fan of 400 thin faces: the product of the corners' factors (1 / sin 0.9 degree each) would
+  // overflow without rescaling. A non-uniform ring radius makes the sum differ from 2 pi.
+  constexpr int kRing = 400;
+  Positions V(kRing + 1, 2);
+  Faces F(kRing, 3);
+  V.row(0) << 0, 0;
+  for (int k = 0; k < kRing; ++k) {
+    const double a = 2 * 3.14159265358979323846 * k / kRing, r = 1 + 0.3 * std::sin(3 * a);
+    V.row(k + 1) << r * std::cos(a), r * std::sin(a);
+    F.row(k) << 0, k + 1, (k + 1) % kRing + 1;
+  }
+  const Mesh mesh(F, kRing + 1);
+  Flattener fl(mesh);
+  const Eigen::VectorXd l2 = squared_edge_lengths(mesh, V);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(kRing + 1);
+  EXPECT_NEAR(fl.gradient(l2, u)[0], 0.0, 1e-12);  // a flat fan
+  u[0] = 0.7;                                     // a cone
+  const double g = fl.gradient(l2, u)[0];
+  EXPECT_NEAR(g, reference_gradient(mesh, l2, u)[0], 1e-10);
+  EXPECT_GT(std::abs(g), 0.1);
+}
+
 TEST_F(CurvedMetric, GradientMatchesFiniteDifferencesOfEnergy) {
   Flattener fl(mesh);
   const Eigen::VectorXd u = random_u(0.05, 3);

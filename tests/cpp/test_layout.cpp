@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include "bdinterp/flatten.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 #include "test_meshes.h"
@@ -41,6 +42,45 @@ TEST(Layout, FacesComeOutCounterClockwise) {
     const Eigen::RowVector2d a = X.row(m.F(f, 1)) - X.row(m.F(f, 0)), b = X.row(m.F(f, 2)) - X.row(m.F(f, 0));
     EXPECT_GT(a.x() * b.y() - a.y() * b.x(), 0) << f;
   }
+}
+
+// The layout's system matrix only weighs edge vectors that agree: for an exactly flat metric every
+// SPD matrix over the interior pattern gives the same positions, including a factorisation of the
+// matrix plus a diagonal shift (undone by iterative refinement).
+TEST(Layout, AnyInteriorSystemGivesTheSameExactLayout) {
+  const auto m = testing::jittered_grid(40, 8, 1.0, 0.2, 3);
+  const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 2.5, 0.1); });
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  const Eigen::VectorXd l2 = squared_edge_lengths(mesh, bent);
+  Layout own(mesh);
+  const Positions X0 = own.embed(l2);
+  EXPECT_LT(rigid_error(X0, bent), 1e-12);
+
+  // The flattening's cotan Laplacian (what the interpolator passes).
+  Flattener flattener(mesh);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  double shift = -1;
+  SparseCholesky& cotan = flattener.factored_hessian(l2, u, &shift);
+  EXPECT_EQ(shift, 0.0);
+  Layout shared(mesh, /*own_system=*/false);
+  Positions X1;
+  double flatness = 1;
+  shared.embed(l2, &cotan, 0.0, X1, &flatness);
+  EXPECT_LT(flatness, 1e-12);
+  EXPECT_LT(rigid_error(X1, bent), 1e-12);
+
+  // The same matrix factorised with a large diagonal shift.
+  std::vector<int> col_ptr, rows;
+  const InteriorPattern pattern = interior_pattern(mesh, col_ptr, rows);
+  SparseCholesky shifted(pattern.size(), col_ptr, rows);
+  std::copy_n(cotan.values(), rows.size(), shifted.values());
+  const double s = 1e-3;
+  for (int p : pattern.diag_pos) shifted.values()[p] += s;
+  shifted.factorize();
+  Positions X2;
+  shared.embed(l2, &shifted, s, X2);
+  EXPECT_LT(rigid_error(X2, bent), 1e-12);
+  EXPECT_THROW(shared.embed(l2, X2), InvalidInput);  // no system of its own
 }
 
 }  // namespace
