@@ -7,7 +7,6 @@
 #include <cmath>
 #include <deque>
 #include <exception>
-#include <optional>
 #include <sstream>
 #include <thread>
 
@@ -296,6 +295,7 @@ void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> ou
   check_weights(w);
   if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
   FrameStats st;
+  const parallel::ThreadLimit limit(threads_);
   solve_frame(w, out, 0, st);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
@@ -360,9 +360,8 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
   auto run = [&](int k) {
-    // One frame per core already: the loops inside a frame stay on their thread.
-    std::optional<parallel::SerialLoops> serial;
-    if (workers > 1) serial.emplace();
+    // One frame per worker: with several workers, the loops inside a frame stay on their thread.
+    const parallel::ThreadLimit limit(workers > 1 ? 1 : threads_);
     const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
     const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;
     FrameStats st;

@@ -64,11 +64,15 @@ int central_face(const Mesh& m) {
   return last;
 }
 
-// Half-edge c (from corner c+1 to corner c+2) of a face stored as p = (l01, cx, cy): corner 0 at
-// the origin, corner 1 at (l01, 0), corner 2 at (cx, cy).
-inline void local_half_edge(const double* p, int c, double* h) {
-  h[0] = c == 0 ? p[1] - p[0] : (c == 1 ? -p[1] : p[0]);
-  h[1] = c == 0 ? p[2] : (c == 1 ? -p[2] : 0.0);
+// The half-edges h[c] (from corner c+1 to corner c+2) of a face stored as p = (l01, cx, cy):
+// corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy).
+inline void local_half_edges(const double* p, double h[3][2]) {
+  h[0][0] = p[1] - p[0];
+  h[0][1] = p[2];
+  h[1][0] = -p[1];
+  h[1][1] = -p[2];
+  h[2][0] = p[0];
+  h[2][1] = 0.0;
 }
 
 }  // namespace
@@ -162,11 +166,11 @@ void Layout::embed(const Eigen::VectorXd& l2, Positions& X, double* flatness) {
 }
 
 void Layout::vector_of(const HalfEdge& h, double* v) const {
-  double e[2];
-  local_half_edge(&local_(h.face, 0), h.corner, e);
-  const double c = rot_(h.face, 0), s = rot_(h.face, 1);
-  v[0] = h.sign * (c * e[0] - s * e[1]);
-  v[1] = h.sign * (s * e[0] + c * e[1]);
+  double e[3][2];
+  local_half_edges(&local_(h.face, 0), e);
+  const double c = rot_(h.face, 0), s = rot_(h.face, 1), *d = e[h.corner];
+  v[0] = h.sign * (c * d[0] - s * d[1]);
+  v[1] = h.sign * (s * d[0] + c * d[1]);
 }
 
 void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
@@ -206,7 +210,10 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   for (const TreeStep& st : tree_) {
     double hf[2], hg[2];
     vector_of({st.parent, st.parent_corner, 1.0}, hf);  // rotated by rot_f already
-    local_half_edge(&local_(st.face, 0), st.face_corner, hg);
+    double local[3][2];
+    local_half_edges(&local_(st.face, 0), local);
+    hg[0] = local[st.face_corner][0];
+    hg[1] = local[st.face_corner][1];
     const double zr = -(hf[0] * hg[0] + hf[1] * hg[1]), zi = hf[0] * hg[1] - hf[1] * hg[0];
     const double inv = broken_[st.face] || broken_[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
                                                               : 1.0 / l2[FE(st.face, st.face_corner)];
@@ -276,8 +283,14 @@ void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
     if (b != rhs_.data()) std::fill_n(b, 2 * n, 0.0);
 #pragma omp for schedule(static)
     for (int f = 0; f < nf; ++f) {
-      double h[3][2];  // the face's rotated half-edges
-      for (int c = 0; c < 3; ++c) vector_of({f, c, 1.0}, h[c]);
+      double h[3][2];  // the face's half-edges, rotated into the layout frame
+      double local[3][2];
+      local_half_edges(&local_(f, 0), local);
+      const double rc = rot_(f, 0), rs = rot_(f, 1);
+      for (int c = 0; c < 3; ++c) {
+        h[c][0] = rc * local[c][0] - rs * local[c][1];
+        h[c][1] = rs * local[c][0] + rc * local[c][1];
+      }
       for (int c = 0; c < 3; ++c) {
         const int p = pattern_.edge_pos[FE(f, c)];
         if (p < 0) continue;

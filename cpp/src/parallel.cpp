@@ -9,13 +9,14 @@ namespace {
 // Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
-thread_local bool serial = false;
+thread_local int limit = 0;  // 0: none
 }  // namespace
 
 int loop_threads(long items) {
 #ifdef _OPENMP
-  if (serial || items < kMinItems) return 1;
-  return omp_get_max_threads();
+  if (items < kMinItems) return 1;
+  const int all = omp_get_max_threads();
+  return limit > 0 && limit < all ? limit : all;
 #else
   (void)items;
   return 1;
@@ -30,8 +31,8 @@ int thread_index() {
 #endif
 }
 
-SerialLoops::SerialLoops() : saved_(serial) { serial = true; }
-SerialLoops::~SerialLoops() { serial = saved_; }
+ThreadLimit::ThreadLimit(int threads) : saved_(limit) { limit = threads; }
+ThreadLimit::~ThreadLimit() { limit = saved_; }
 
 void Partials::prepare(int threads, long size) {
   threads_ = threads;

@@ -58,8 +58,9 @@ class Interpolator:
     shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in one plane); faces: (m, 3) ints.
     anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a vertex index
     (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start from.
-    tol: convergence tolerance on max |2 pi - angle sum|; threads: workers of frames() (0 = all
-    cores). Not thread-safe: use one Interpolator per thread.
+    tol: convergence tolerance on max |2 pi - angle sum|; threads: cores to use (frames() splits
+    a sequence over them, a single frame its loops; 0 = all cores, 1 = sequential). Not
+    thread-safe: use one Interpolator per thread.
     """
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50,
@@ -94,7 +95,7 @@ class Interpolator:
 
     @property
     def threads(self):
-        """Worker threads of frames() (0 = one per core, 1 = sequential)."""
+        """Threads used by frames() and by each frame (0 = one per core, 1 = sequential)."""
         return self._core.threads
 
     @threads.setter

@@ -135,6 +135,27 @@ TEST(Interpolator, PiecesAndIsolatedVerticesAreHandledSeparately) {
   EXPECT_LT((X.row(2 * n) - Eigen::RowVector2d(8, 8)).norm(), 1e-12);
 }
 
+TEST(Interpolator, ThreadCountDoesNotChangeTheFrames) {
+  // Big enough for the face loops of one frame to be split over the cores.
+  const auto m = testing::jittered_grid(80, 20, 1.0, 0.25, 5);
+  const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 3.0, 0.125); });
+  Interpolator all({m.V, bent}, m.F), one({m.V, bent}, m.F);
+  one.set_threads(1);
+  const std::vector<double> ts{0.2, 0.21, 0.22, 0.3, 0.5, 0.7, 0.9, 0.95};  // 2 workers in frames()
+  for (double t : ts) {
+    const Positions a = all.at(t), b = one.at(t);
+    EXPECT_LT(max_abs(a - b), 1e-10 * max_abs(bent)) << "t = " << t;
+    EXPECT_LE(all.last_stats().residual, 1e-10);
+  }
+  // A baked sequence (one frame per worker) agrees with single frames too, up to the solver's
+  // tolerance (other warm starts converge to other points within it).
+  Positions seq(ts.size() * m.V.rows(), 2);
+  all.forget();
+  all.frames(ts, seq);
+  for (size_t k = 0; k < ts.size(); ++k)
+    EXPECT_LT(max_abs(seq.middleRows(k * m.V.rows(), m.V.rows()) - one.at(ts[k])), 1e-8 * max_abs(bent));
+}
+
 TEST(Interpolator, MultiTargetReproducesEveryInput) {
   const auto m = testing::jittered_grid(10, 5, 1.0, 0.4, 3);
   const Positions b1 = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 1.0, 0.2); });

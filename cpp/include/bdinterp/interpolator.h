@@ -65,8 +65,9 @@ class Interpolator {
   // solve of the interior cotan Laplacian of the base shape, summed over pieces (symbolic analysis
   // reused). Leaves the warm-start history untouched but invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
-  // Worker threads used by frames(): 0 (default) = std::thread::hardware_concurrency(), 1 =
-  // sequential; never more than one per 4 frames.
+  // Threads to use: frames() splits a sequence over this many workers (never more than one per 4
+  // frames), and a single frame splits its face loops over this many threads. 0 (default) = one per
+  // core, 1 = sequential.
   void set_threads(int n) { threads_ = n; }
   int threads() const { return threads_; }
 

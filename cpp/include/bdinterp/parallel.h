@@ -7,21 +7,21 @@
 namespace bdinterp::parallel {
 
 // Threads to use for a loop of `items` independent iterations started on the calling thread: 1 for
-// small loops (a fork/join costs a few microseconds), 1 on threads marked by SerialLoops, else all.
+// small loops (a fork/join costs a few microseconds), else all cores up to this thread's limit.
 int loop_threads(long items);
 // This thread's index inside a parallel region (0 outside).
 int thread_index();
 
-// While alive, loops started on this thread run on it alone.
-class SerialLoops {
+// While alive, loops started on this thread use at most `threads` threads (0: no limit).
+class ThreadLimit {
  public:
-  SerialLoops();
-  ~SerialLoops();
-  SerialLoops(const SerialLoops&) = delete;
-  SerialLoops& operator=(const SerialLoops&) = delete;
+  explicit ThreadLimit(int threads);
+  ~ThreadLimit();
+  ThreadLimit(const ThreadLimit&) = delete;
+  ThreadLimit& operator=(const ThreadLimit&) = delete;
 
  private:
-  bool saved_;
+  int saved_;
 };
 
 // Per-thread accumulation buffers for scatter-adds (thread 0 writes into the caller's array, the
