@@ -2,6 +2,7 @@
 
 #ifdef _OPENMP
 #include <omp.h>
+#include <pthread.h>
 #endif
 
 namespace bdinterp::parallel {
@@ -10,11 +11,20 @@ namespace {
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
 thread_local int limit = 0;  // 0: none
+
+#ifdef _OPENMP
+// OpenMP's thread pool does not survive fork(): a child that starts a parallel region after its
+// parent ran one waits forever for threads that were not copied (e.g. Python's multiprocessing).
+// Children run their loops serially instead.
+bool forked = false;
+void note_fork() { forked = true; }
+const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
+#endif
 }  // namespace
 
 int loop_threads(long items) {
 #ifdef _OPENMP
-  if (items < kMinItems) return 1;
+  if (items < kMinItems || forked) return 1;
   const int all = omp_get_max_threads();
   return limit > 0 && limit < all ? limit : all;
 #else

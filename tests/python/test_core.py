@@ -338,6 +338,31 @@ def test_parallel_frames_match_sequential_frames(disk):
         bdinterp.Interpolator([V, T], F, threads=-1)
 
 
+def _frame_in_child(V, F, T, queue):
+    interp = bdinterp.Interpolator([V, T], F)
+    queue.put(float(np.abs(interp.at(0.6)).max()))
+
+
+def test_forked_children_can_interpolate_after_the_parent_did():
+    # A parent that ran multi-threaded frames, then fork() (multiprocessing's default on Linux): the
+    # child must not wait for the parent's threads, which fork() does not copy.
+    import multiprocessing
+    V, F = meshes.disk(3000)
+    T = meshes.apply_map("phi2", V)
+    parent = bdinterp.Interpolator([V, T], F)
+    expected = np.abs(parent.at(0.6)).max()
+    ctx = multiprocessing.get_context("fork")
+    queue = ctx.Queue()
+    child = ctx.Process(target=_frame_in_child, args=(V, F, T, queue))
+    child.start()
+    child.join(60)
+    hung = child.is_alive()
+    if hung:
+        child.kill()
+    assert not hung and child.exitcode == 0
+    assert abs(queue.get(timeout=5) - expected) < 1e-8 * expected
+
+
 def test_flipped_faces_counts_reflected_faces(disk):
     V, F = disk
     mirrored = V * [-1, 1]
