@@ -92,7 +92,7 @@ class Flattener {
   void assemble_from_scaled() const;
   void load_hessian();  // hvals_ into the solver's matrix
   void factorize_with_shift();
-  void hessian_times(const double* x, double* y) const;  // the values in the solver times x
+  void hessian_times(const double* x, double* y) const;  // y = H x with H = hvals_
   int preconditioned_cg(double eta, int max_iterations);
 
   explicit Flattener(const Mesh* mesh) : mesh_(mesh) {}
@@ -111,7 +111,7 @@ class Flattener {
   };
   std::vector<FaceSlots> slots_;
   // Other threads' shares of an evaluation: angle sums (whole turns, broken faces), running
-  // products of the corners' unit factors, Hessian values.
+  // products of the corners' factors (cot, 1), Hessian values; and of a Hessian product.
   mutable parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_, product_parts_;
   mutable Eigen::VectorXd corner_re_, corner_im_;  // #interior + 1: thread 0's running products
   mutable std::vector<double> hvals_;  // nnz_ + 1: the Hessian at the last evaluated u, in the
