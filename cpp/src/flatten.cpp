@@ -87,18 +87,20 @@ inline void scatter_cotangents(const double cot[3], const int diag[3], const int
 
 namespace {
 
-// Multiplies the running product (re, im) of a vertex's corner factors by the factor (cot a, 1) of
-// one more corner, whose argument is its angle a in (0, pi): the product's argument then grows by
-// less than pi, so it passed a multiple of 2 pi exactly when it moved from the lower half-plane to
-// the upper one; whole turns are added to `sum`. |factor| = 1 / sin a >= 1, so the product is
-// rescaled (by a power of two, exactly) before it can overflow.
-inline void turn(double& re, double& im, double& sum, double cot) {
+// Multiplies the running product (re, im) of a vertex's corner factors by the factor (a, b) of one
+// more corner, a, b > 0: its argument, half the corner's angle, is in (0, pi / 2), so the product's
+// argument passed a multiple of 2 pi exactly when it moved from the lower half-plane to the upper
+// one; whole turns are added to `sum`. The product is rescaled (by a power of two, exactly) before
+// it could overflow or underflow.
+inline void turn(double& re, double& im, double& sum, double a, double b) {
   constexpr double kTwoPi = 6.28318530717958647692;
-  double nr = re * cot - im, ni = re + im * cot;
+  double nr = re * a - im * b, ni = re * b + im * a;
   sum += (im < 0 && !(ni < 0)) ? kTwoPi : 0.0;
-  if (std::abs(nr) + std::abs(ni) > 0x1p500) {
-    nr *= 0x1p-500;
-    ni *= 0x1p-500;
+  const double size = std::abs(nr) + std::abs(ni);
+  if (size > 0x1p500 || size < 0x1p-500) {
+    const double scale = size > 1 ? 0x1p-500 : 0x1p500;
+    nr *= scale;
+    ni *= scale;
   }
   re = nr;
   im = ni;
@@ -141,10 +143,11 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
       scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
       scaled_len_[e] = std::sqrt(scaled_l2_[e]);
     }
-    // Angle sums without an arctangent per corner: corner c of a face has the angle
-    // arg(d_c + i q) = arg(cot_c + i), with d_c = l_a^2 + l_b^2 - l_c^2 and q = 4 area, so each
-    // vertex multiplies its corners' factors and takes one argument at the end (turn() counts the
-    // whole turns). Broken faces add pi / 0 / 0 directly. Per-thread arrays.
+    // Angle sums without an arctangent per corner: by the half-angle formula, half the angle at
+    // corner c is arg(p x_c + i q) (p the perimeter, x_c Kahan's excess, q = 4 area; accurate for
+    // needles), so each vertex multiplies its corners' factors and takes one argument at the end
+    // (turn() counts the whole turns): the products hold half the angle sums. Broken faces add
+    // (pi, 0, 0), halved, directly. Per-thread arrays.
     const int k = parallel::thread_index();
     double* sum = sum_parts_.buffer(k, grad_.data());
     double* re = re_parts_.buffer(k, corner_re_.data());
@@ -159,30 +162,32 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
       const FaceSlots& s = slots_[f];
       const double l[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
       const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
-      const double q = four_area(l);
-      if (!(q > 0)) {  // broken: pi opposite the longest edge, zero cotangents (CETM, Sec. 4.2)
-        const int c = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
-        sum[s.row[c]] += kPi;
+      double x[3], perimeter;
+      const double q = excesses(l, x, &perimeter);
+      if (!(q > 0)) {  // broken: (pi, 0, 0), zero cotangents (CETM, Sec. 4.2)
+        const int c = longest_side(l);
+        sum[s.row[c]] += 0.5 * kPi;
         ++broken;
         if (want_energy) {
           for (int m = 0; m < 3; ++m) energy += (m == c ? kPi - kHalfPi : -kHalfPi) * std::log(fl2[m]);
         }
         continue;
       }
-      const double inv_q = 1.0 / q;
-      const double cot[3] = {(fl2[1] + fl2[2] - fl2[0]) * inv_q, (fl2[0] + fl2[2] - fl2[1]) * inv_q,
-                             (fl2[0] + fl2[1] - fl2[2]) * inv_q};
       if (want_energy) {  // the line search's path: the angles themselves are needed
         for (int c = 0; c < 3; ++c) {
-          const double angle = fast_atan2(1.0, cot[c]);
+          const double angle = 2 * atan_positive(q, perimeter * x[c]);
           const double lambda = std::log(fl2[c]);
-          sum[s.row[c]] += angle;
+          sum[s.row[c]] += 0.5 * angle;
           energy += angle * lambda + 2 * lobachevsky(angle) - kHalfPi * lambda;
         }
       } else {
-        for (int c = 0; c < 3; ++c) turn(re[s.row[c]], im[s.row[c]], sum[s.row[c]], cot[c]);
+        for (int c = 0; c < 3; ++c) turn(re[s.row[c]], im[s.row[c]], sum[s.row[c]], perimeter * x[c], q);
       }
-      if (h) scatter_cotangents(cot, s.diag, s.off, h);
+      if (h) {
+        double cot[3];
+        cotangents(fl2, q, cot);
+        scatter_cotangents(cot, s.diag, s.off, h);
+      }
     }
     // The angle sums, every thread's share, into the gradient 2 pi - sum.
 #pragma omp for schedule(static)
@@ -192,7 +197,7 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
         total += sum_parts_.buffer(t, grad_.data())[i] +
                  argument(re_parts_.buffer(t, corner_re_.data())[i], im_parts_.buffer(t, corner_im_.data())[i]);
       }
-      grad_[i] = kTwoPi - total;
+      grad_[i] = kTwoPi - 2 * total;  // the products hold half the angle sums
     }
   }
   grad_[num_interior_] = 0;

@@ -189,7 +189,8 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
     const int* fe = &FE(f, 0);
     const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
     const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
-    const double q = four_area(l);
+    double x[3], perimeter;
+    const double q = excesses(l, x, &perimeter);
     broken_[f] = !(q > 0);
     double cx, cy;
     if (!broken_[f]) {
@@ -197,7 +198,7 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
       cx = (fl2[2] + fl2[1] - fl2[0]) * half_inv;
       cy = q * half_inv;
     } else {  // broken triple (CETM convention of triangle.h): angle pi or 0 at corner 0
-      cx = l[0] >= l[1] && l[0] >= l[2] ? -l[1] : l[1];
+      cx = longest_side(l) == 0 ? -l[1] : l[1];
       cy = 0.0;
     }
     local_.row(f) << l[2], cx, cy;

@@ -28,31 +28,35 @@ struct CurvedMetric : ::testing::Test {
   }
 };
 
-// 2 pi - angle sum at every interior vertex, straight from the law of cosines (atan2 of 4 area and
-// twice the adjacent sides' dot product), (pi, 0, 0) for broken faces: an independent reference
-// for the solver's arctangent-free angle sums.
+// 2 pi - angle sum at every interior vertex, straight from the law of cosines in long double (atan2
+// of 4 area and twice the adjacent sides' dot product: 64-bit mantissas keep even 1e-8 needles to
+// ~1e-12), (pi, 0, 0) for broken faces: an independent reference for the solver's angle sums.
 Eigen::VectorXd reference_gradient(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
-  constexpr double kPi = 3.14159265358979323846;
-  const Eigen::VectorXd s = scale_lengths(mesh, l2, u);
-  Eigen::VectorXd sum = Eigen::VectorXd::Zero(mesh.num_vertices());
+  const long double kPi = 3.14159265358979323846264338L;
+  std::vector<long double> sum(mesh.num_vertices(), 0.0L);
   for (int f = 0; f < mesh.num_faces(); ++f) {
-    double a2[3], a[3];
-    for (int c = 0; c < 3; ++c) a[c] = std::sqrt(a2[c] = s[mesh.face_edges()(f, c)]);
-    const int longest = a[0] >= a[1] && a[0] >= a[2] ? 0 : (a[1] >= a[2] ? 1 : 2);
-    const double rest = a[(longest + 1) % 3] + a[(longest + 2) % 3];
+    long double a2[3], a[3];
     for (int c = 0; c < 3; ++c) {
-      double angle = c == longest ? kPi : 0.0;
+      const int e = mesh.face_edges()(f, c);
+      a2[c] = static_cast<long double>(l2[e]) *
+              expl(static_cast<long double>(u[mesh.edges()(e, 0)]) + u[mesh.edges()(e, 1)]);
+      a[c] = sqrtl(a2[c]);
+    }
+    const int longest = a[0] >= a[1] && a[0] >= a[2] ? 0 : (a[1] >= a[2] ? 1 : 2);
+    const long double rest = a[(longest + 1) % 3] + a[(longest + 2) % 3];
+    for (int c = 0; c < 3; ++c) {
+      long double angle = c == longest ? kPi : 0.0L;
       if (a[longest] < rest) {
-        const double d = a2[(c + 1) % 3] + a2[(c + 2) % 3] - a2[c];
-        const double q2 = 4 * a2[(c + 1) % 3] * a2[(c + 2) % 3] - d * d;
-        angle = std::atan2(std::sqrt(std::max(q2, 0.0)), d);
+        const long double d = a2[(c + 1) % 3] + a2[(c + 2) % 3] - a2[c];
+        const long double q2 = 4 * a2[(c + 1) % 3] * a2[(c + 2) % 3] - d * d;
+        angle = atan2l(sqrtl(std::max(q2, 0.0L)), d);
       }
       sum[mesh.faces()(f, c)] += angle;
     }
   }
   Eigen::VectorXd g = Eigen::VectorXd::Zero(mesh.num_vertices());
   for (int v = 0; v < mesh.num_vertices(); ++v)
-    if (!mesh.is_boundary_vertex(v)) g[v] = 2 * kPi - sum[v];
+    if (!mesh.is_boundary_vertex(v)) g[v] = static_cast<double>(2 * kPi - sum[v]);
   return g;
 }
 
@@ -88,6 +92,27 @@ TEST(Flatten, AngleSumsAtAVertexOfValence400) {
   const double g = fl.gradient(l2, u)[0];
   EXPECT_NEAR(g, reference_gradient(mesh, l2, u)[0], 1e-10);
   EXPECT_GT(std::abs(g), 0.1);
+}
+
+TEST(Flatten, AngleSumsAtRightAnglesOfNeedles) {
+  // Four needles (legs 1 and 1e-8) meet at their right angles: the law of cosines in doubles loses
+  // ~1e-8 there (l_a^2 + l_b^2 - l_c^2 cancels), the half-angle formula does not.
+  Positions V(5, 2);
+  V << 0, 0, 1, 0, 0, 1e-8, -1, 0, 0, -1e-8;
+  Faces F(4, 3);
+  F << 0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1;
+  const Mesh mesh(F, 5);
+  Flattener fl(mesh);
+  const Eigen::VectorXd l2 = squared_edge_lengths(mesh, V);
+  // The rounded squared lengths are themselves 2e-8 away from flat at vertex 0; the sum must be
+  // right to well within the solver's tolerance (the law of cosines in doubles says 0 here).
+  for (const double u0 : {0.0, 0.3}) {
+    Eigen::VectorXd u = Eigen::VectorXd::Zero(5);
+    u[0] = u0;
+    const double expected = reference_gradient(mesh, l2, u)[0];
+    EXPECT_NEAR(fl.gradient(l2, u)[0], expected, 1e-11) << "u0 = " << u0;
+    EXPECT_NEAR(fl.residual(l2, u), std::abs(expected), 1e-11);
+  }
 }
 
 TEST_F(CurvedMetric, GradientMatchesFiniteDifferencesOfEnergy) {

@@ -35,29 +35,20 @@ inline double atan_positive(double y, double x) {
   return base + (z + z * (zz * p / q) + extra);
 }
 
-// x[k] = l[i] + l[j] - l[k] for the lengths l of a triangle, grouped as in Kahan's area formula so
-// that the differences of nearly equal lengths are exact (needles keep their accuracy). Returns the
-// index of the longest edge.
-inline int excesses(const double l[3], double x[3]) {
-  const int a = (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
-  const int b = l[(a + 1) % 3] >= l[(a + 2) % 3] ? (a + 1) % 3 : (a + 2) % 3;
-  const int c = 3 - a - b;  // l[a] >= l[b] >= l[c]
-  x[a] = l[c] - (l[a] - l[b]);
-  x[b] = l[c] + (l[a] - l[b]);
-  x[c] = l[a] + (l[b] - l[c]);
-  return a;
-}
-
-// 4 * area of a triangle with side lengths l: Heron's formula in Kahan's grouping, accurate for
-// needles too; 0 for lengths that violate the triangle inequality (a broken triple). Branch-free
-// sorting by min/max.
-inline double four_area(const double l[3]) {
+// For side lengths l (l[c] opposite corner c): the excesses x[c] = l[c+1] + l[c+2] - l[c], grouped as
+// in Kahan's area formula so that differences of nearly equal lengths are exact (needles keep their
+// accuracy; the sides are sorted by min/max, without branches), and *perimeter. Returns 4 * area by
+// Heron's formula, or 0 for lengths that violate the triangle inequality (a broken triple).
+// The half-angle formula tan(a_c / 2) = 4 area / (perimeter x[c]) then gives every angle accurately.
+inline double excesses(const double l[3], double x[3], double* perimeter) {
   const double hi = std::max(std::max(l[0], l[1]), l[2]);
   const double lo = std::min(std::min(l[0], l[1]), l[2]);
   const double mid = std::max(std::min(l[0], l[1]), std::min(std::max(l[0], l[1]), l[2]));
-  const double shortfall = lo - (hi - mid);  // > 0 iff the triangle inequality holds strictly
-  if (!(shortfall > 0)) return 0.0;
-  return std::sqrt((hi + (mid + lo)) * shortfall * (lo + (hi - mid)) * (hi + (mid - lo)));
+  const double x_hi = lo - (hi - mid), x_mid = lo + (hi - mid), x_lo = hi + (mid - lo);
+  for (int c = 0; c < 3; ++c) x[c] = l[c] == hi ? x_hi : (l[c] == lo ? x_lo : x_mid);  // ties agree
+  *perimeter = hi + (mid + lo);
+  if (!(x_hi > 0)) return 0.0;  // x_hi > 0 iff the triangle inequality holds strictly
+  return std::sqrt(*perimeter * x_hi * x_mid * x_lo);
 }
 
 // atan2(y, x) for any signs, from atan_positive (same accuracy, same speed).
@@ -75,59 +66,49 @@ inline double fast_atan2(double y, double x) {
   return std::signbit(y) ? -a : a;
 }
 
-// l[c]: length of the edge opposite corner c (> 0), l2[c] = l[c]^2. Writes angle[c] (at corner c)
-// and, if `cot` is given, the cotangents. Returns true for a broken triple.
-inline bool triangle_angles_from_lengths(const double l[3], const double l2[3], double angle[3],
-                                         double* cot = nullptr) {
-  constexpr double kPi = 3.14159265358979323846;
-  double x[3];
-  const int longest = excesses(l, x);
-  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
-    for (int k = 0; k < 3; ++k) angle[k] = k == longest ? kPi : 0.0;
-    if (cot) cot[0] = cot[1] = cot[2] = 0.0;
-    return true;
-  }
-  const int i = (longest + 1) % 3, j = (longest + 2) % 3;
-  const double p = l[longest] + (l[i] + l[j]);
-  const double q = std::sqrt(p * x[0] * x[1] * x[2]);  // 4 area (Heron, Kahan's grouping)
-  // Half-angle formula, tan(a_i / 2) = sqrt(x_j x_k / (p x_i)) = q / (p x_i): accurate for needles
-  // and caps alike, for the two smaller angles; the largest is pi minus them, off by a few ulps of pi.
-  angle[i] = 2 * atan_positive(q, p * x[i]);
-  angle[j] = 2 * atan_positive(q, p * x[j]);
-  angle[longest] = kPi - angle[i] - angle[j];
-  if (cot) {
-    const double inv = 1.0 / q;
-    cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
-    cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
-    cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
-  }
-  return false;
+// Index of the longest of the lengths l: the corner that gets the angle pi in a broken triple.
+inline int longest_side(const double l[3]) {
+  return (l[0] >= l[1] && l[0] >= l[2]) ? 0 : (l[1] >= l[2] ? 1 : 2);
 }
 
-// The same from the squared lengths alone.
-inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
-  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
-  return triangle_angles_from_lengths(l, l2, angle, cot);
-}
-
-// Cotangents only (the Hessian needs no angles); zeros and true for a broken triple.
-inline bool triangle_cotangents_from_lengths(const double l[3], const double l2[3], double cot[3]) {
-  double x[3];
-  excesses(l, x);
-  if (!(x[0] > 0 && x[1] > 0 && x[2] > 0)) {
-    cot[0] = cot[1] = cot[2] = 0.0;
-    return true;
-  }
-  const double inv = 1.0 / std::sqrt((l[0] + l[1] + l[2]) * x[0] * x[1] * x[2]);
+// cot[c] = (l2[c+1] + l2[c+2] - l2[c]) / q for the squared lengths l2 and q = 4 area > 0.
+inline void cotangents(const double l2[3], double q, double cot[3]) {
+  const double inv = 1.0 / q;
   cot[0] = (l2[1] + l2[2] - l2[0]) * inv;
   cot[1] = (l2[0] + l2[2] - l2[1]) * inv;
   cot[2] = (l2[0] + l2[1] - l2[2]) * inv;
+}
+
+// l[c]: length of the edge opposite corner c (> 0), l2[c] = l[c]^2. Writes the cotangents
+// (l2[c+1] + l2[c+2] - l2[c]) / (4 area); zeros and true for a broken triple.
+inline bool triangle_cotangents_from_lengths(const double l[3], const double l2[3], double cot[3]) {
+  double x[3], perimeter;
+  const double q = excesses(l, x, &perimeter);
+  if (!(q > 0)) {
+    cot[0] = cot[1] = cot[2] = 0.0;
+    return true;
+  }
+  cotangents(l2, q, cot);
   return false;
 }
 
 inline bool triangle_cotangents(const double l2[3], double cot[3]) {
   const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
   return triangle_cotangents_from_lengths(l, l2, cot);
+}
+
+// Angles by the half-angle formula (accurate for needles and caps alike) and, if `cot` is given,
+// the cotangents, from the squared lengths l2; (pi, 0, 0) and true for a broken triple.
+inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
+  constexpr double kPi = 3.14159265358979323846;
+  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
+  double x[3], perimeter;
+  const double q = excesses(l, x, &perimeter);
+  const bool broken = !(q > 0);
+  for (int k = 0; k < 3; ++k)
+    angle[k] = broken ? (k == longest_side(l) ? kPi : 0.0) : 2 * atan_positive(q, perimeter * x[k]);
+  if (cot) triangle_cotangents_from_lengths(l, l2, cot);
+  return broken;
 }
 
 }  // namespace bdinterp
