@@ -316,33 +316,7 @@ SparseCholesky& Flattener::factored_hessian(const Eigen::VectorXd& l2, const Eig
 }
 
 void Flattener::hessian_times(const double* x, double* y) const {
-  // Lower triangle by columns: column j gives y_j its dot product and scatters x_j into the rows
-  // below it (per-thread arrays for the scatter, summed after).
-  const SparseCholesky& chol = *chol_;
-  const double* H = hvals_.data();
-  const int* col_ptr = chol.column_pointers();
-  const int* rows = chol.row_indices();
-  const int n = num_interior_;
-  const int threads = parallel::loop_threads(nnz_ / 4);
-  product_parts_.prepare(threads, n);
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    double* out = product_parts_.buffer(parallel::thread_index(), y);
-    std::fill_n(out, n, 0.0);
-#pragma omp for schedule(static)
-    for (int j = 0; j < n; ++j) {
-      const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
-      double acc = H[p0] * x[j];  // diagonal first in every column
-      const double xj = x[j];
-      for (int p = p0 + 1; p < p1; ++p) {
-        const int i = rows[p];
-        acc += H[p] * x[i];
-        out[i] += H[p] * xj;
-      }
-      out[j] += acc;
-    }
-  }
-  product_parts_.add_into(y);
+  chol_->multiply(hvals_.data(), x, y);
 }
 
 int Flattener::preconditioned_cg(double eta, int max_iterations) {

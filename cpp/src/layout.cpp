@@ -317,18 +317,9 @@ void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
   W.solve(x.data(), x.data(), 2);
   // The factorised matrix is W + shift I: iterative refinement recovers the solution for W.
   for (int it = 0; it < 5 && shift > 0; ++it) {
-    Eigen::VectorXd r = b;
-    for (int col = 0; col < 2; ++col) {
-      const double* xc = x.data() + col * n;
-      double* rc = r.data() + col * n;
-      for (int j = 0; j < n; ++j) {
-        rc[j] -= (M[col_ptr[j]] - shift) * xc[j];
-        for (int p = col_ptr[j] + 1; p < col_ptr[j + 1]; ++p) {
-          rc[rows[p]] -= M[p] * xc[j];
-          rc[j] -= M[p] * xc[rows[p]];
-        }
-      }
-    }
+    Eigen::VectorXd r(2 * n);  // b - (W - shift I) x
+    for (int col = 0; col < 2; ++col) W.multiply(M, x.data() + col * n, r.data() + col * n);
+    r = b - r + shift * x;
     W.solve(r.data(), r.data(), 2);
     x += r;
     if (r.cwiseAbs().maxCoeff() <= 1e-15 * x.cwiseAbs().maxCoeff()) break;

@@ -1,5 +1,7 @@
 #include "bdinterp/sparse_cholesky.h"
 
+#include "bdinterp/parallel.h"
+
 #include <cholmod.h>
 
 #include <algorithm>
@@ -21,6 +23,7 @@ struct SparseCholesky::Impl {
   cholmod_dense* E = nullptr;
   int ncols = 0;
   bool factored = false;
+  mutable parallel::Partials product_parts;  // other threads' shares of multiply()
   double factor_flops = 0, solve_flops = 0;
 
   Impl() {
@@ -135,6 +138,35 @@ void SparseCholesky::factorize() {
   }
   m.check("factorize");
   m.factored = true;
+}
+
+void SparseCholesky::multiply(const double* values, const double* x, double* y) const {
+  // Lower triangle by columns: column j gives y_j its dot product and scatters x_j into the rows
+  // below it (per-thread arrays for the scatter, summed after).
+  const int* col_ptr = column_pointers();
+  const int* rows = row_indices();
+  const int n = size();
+  const int threads = parallel::loop_threads(col_ptr[n] / 4);
+  parallel::Partials& parts = impl_->product_parts;
+  parts.prepare(threads, n);
+#pragma omp parallel num_threads(threads) if (threads > 1)
+  {
+    double* out = parts.buffer(parallel::thread_index(), y);
+    std::fill_n(out, n, 0.0);
+#pragma omp for schedule(static)
+    for (int j = 0; j < n; ++j) {
+      const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
+      double acc = values[p0] * x[j];  // diagonal first in every column
+      const double xj = x[j];
+      for (int p = p0 + 1; p < p1; ++p) {
+        const int i = rows[p];
+        acc += values[p] * x[i];
+        out[i] += values[p] * xj;
+      }
+      out[j] += acc;
+    }
+  }
+  parts.add_into(y);
 }
 
 void SparseCholesky::solve(const double* b, double* x, int ncols) {

@@ -111,8 +111,8 @@ class Flattener {
   };
   std::vector<FaceSlots> slots_;
   // Other threads' shares of an evaluation: angle sums (whole turns, broken faces), running
-  // products of the corners' factors (cot, 1), Hessian values; and of a Hessian product.
-  mutable parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_, product_parts_;
+  // products of the corners' half-angle factors, Hessian values.
+  mutable parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_;
   mutable Eigen::VectorXd corner_re_, corner_im_;  // #interior + 1: thread 0's running products
   mutable std::vector<double> hvals_;  // nnz_ + 1: the Hessian at the last evaluated u, in the
                                        // solver's order (the shifted copy lives in the solver)

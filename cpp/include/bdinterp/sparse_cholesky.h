@@ -38,6 +38,9 @@ class SparseCholesky {
   // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
   // definite (naming the failing column) or CHOLMOD reports an error.
   void factorize();
+  // y = A x for the symmetric matrix whose lower triangle, in the order of the pattern, is
+  // `values` (not necessarily the factorised one). Loops over both cores for large patterns.
+  void multiply(const double* values, const double* x, double* y) const;
   // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may alias b.
   void solve(const double* b, double* x, int ncols = 1);
 
