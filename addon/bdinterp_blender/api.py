@@ -20,7 +20,7 @@ DEFAULT_TOLERANCE = 1e-4  # planarity, relative to the mesh size
 
 
 def _core():
-    from . import load_core
+    from .core import load_core
     return load_core()
 
 

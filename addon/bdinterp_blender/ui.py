@@ -152,7 +152,7 @@ class BDINTERP_AP_preferences(bpy.types.AddonPreferences):
     bl_idname = __package__
 
     def draw(self, context):
-        from . import build_info
+        from .core import build_info
         info = build_info()
         if CORE_ERROR:
             draw_message(self.layout, CORE_ERROR, width=90)
