@@ -17,9 +17,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "python"))
+sys.path.insert(0, os.path.join(HERE, "..", "tools"))
 sys.path.insert(0, HERE)
 
-from bdinterp import io, meshes  # noqa: E402
+from bdinterp import io  # noqa: E402
+from bdinterp_tools import meshes  # noqa: E402
 from deform import bend, smooth_ramp  # noqa: E402
 
 

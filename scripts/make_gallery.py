@@ -14,7 +14,7 @@ For every example (examples/<name>/{source,target}.obj) it interpolates at
 
 plus convergence.png (Fig. 6 left), and GALLERY.md with one table per
 example: max K over t, faces flipped (or collapsed) and, for BDI, the
-Newton iterations per frame.  The same markdown is printed on stdout.
+the most Newton iterations in a frame.  The same markdown is printed on stdout.
 Given NAMEs, only those are redone and GALLERY.md is left as it is.
 """
 
@@ -26,9 +26,12 @@ import numpy as np
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..")
 sys.path.insert(0, os.path.join(ROOT, "python"))
+sys.path.insert(0, os.path.join(ROOT, "tools"))
 
 import bdinterp  # noqa: E402
-from bdinterp import io, plots  # noqa: E402
+from bdinterp import figures, io  # noqa: E402
+from bdinterp.cli import Progress  # noqa: E402
+from bdinterp_tools import convergence  # noqa: E402
 
 TS = np.linspace(0.0, 1.0, 21)
 PICTURED_T = {"spiral": 0.75}
@@ -55,13 +58,12 @@ def table(name, X0, X1, F, result):
              f"t = 0..1.", "",
              "| method | max K over t | max K, 0 < t < 1 "
              "| max flipped faces in a frame | frames with flips "
-             "| Newton iterations (mean / max) |",
+             "| Newton iterations (most in a frame) |",
              "|---|---|---|---|---|---|"]
     inner = (TS > 0) & (TS < 1)
     for m, r in result.items():
         it = r["iterations"]
-        iters = (f"{it.mean():.1f} / {it.max()}" if np.all(it >= 0)
-                 else "n/a")
+        iters = str(it) if it >= 0 else "n/a"
         lines.append(f"| {m} | {np.max(r['K']):.4g} "
                      f"| {np.max(r['K'][inner]):.4g} "
                      f"| {np.max(r['flipped'])} "
@@ -71,7 +73,7 @@ def table(name, X0, X1, F, result):
 
 def save(fig, path):
     fig.savefig(path, dpi=DPI, bbox_inches="tight")
-    plots._pyplot().close(fig)
+    figures.pyplot().close(fig)
     print(f"wrote {os.path.relpath(path, ROOT)}", file=sys.stderr)
 
 
@@ -89,22 +91,22 @@ def main():
         X0, X1, F = io.read_pair(os.path.join(folder, "source.obj"),
                                  os.path.join(folder, "target.obj"))
         t = PICTURED_T.get(name, 0.5)
-        bar = plots.Progress(len(TS) * len(plots.METHODS), name)
-        result = plots.sweep(X0, X1, F, TS, progress=bar)
-        save(plots.compare_figure(X0, X1, F, t, TS, result),
+        bar = Progress(len(TS) * len(bdinterp.METHODS), name)
+        result = figures.sweep(X0, X1, F, TS, progress=bar)
+        save(figures.compare_figure(X0, X1, F, t, TS, result),
              os.path.join(args.out, f"{name}_compare.png"))
-        sample = plots.pick_faces(bdinterp.conformal_distortion(X0, X1, F),
+        sample = figures.pick_faces(bdinterp.conformal_distortion(X0, X1, F),
                                   12)
-        save(plots.distortion_curves_figure(
+        save(figures.distortion_curves_figure(
             X0, X1, F, TS, result["bdi"]["frames"], result["bdi"]["K"],
             sample), os.path.join(args.out, f"{name}_distortion.png"))
         md += [table(name, X0, X1, F, result),
                f"![{name}: frames at t={t:g}]({name}_compare.png)", "",
                f"![{name}: K(t) per face]({name}_distortion.png)", ""]
     if not args.names:
-        # Defaults of plots.convergence: 3 maps x 3 t x 4 levels.
-        data = plots.convergence(progress=plots.Progress(36, "convergence"))
-        save(plots.convergence_figure(data),
+        # Defaults of convergence.convergence: 3 maps x 3 t x 4 levels.
+        data = convergence.convergence(progress=Progress(36, "convergence"))
+        save(convergence.convergence_figure(data),
              os.path.join(args.out, "convergence.png"))
         md += ["### Convergence (Fig. 6 left)", "",
                "| map | t | " + " | ".join(

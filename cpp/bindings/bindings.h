@@ -16,6 +16,8 @@ namespace py = pybind11;
 using PositionsRef = Eigen::Ref<const Positions>;
 using FacesRef = Eigen::Ref<const Faces>;
 
+void bind_anchor(py::module_& m);
+void bind_stats(py::module_& m);
 void bind_interpolator(py::module_& m);
 void bind_distortion(py::module_& m);
 void bind_baselines(py::module_& m);

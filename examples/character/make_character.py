@@ -7,7 +7,7 @@ Run inside Blender (its constrained Delaunay mesher does the meshing)::
 
 The outline (head, neck, torso, two arms, two legs) is drawn by hand from
 segments and arcs, sampled evenly, filled with jittered lattice points
-(bdinterp/meshes.py) and meshed by ``mathutils.geometry.delaunay_2d_cdt``
+(tools/bdinterp_tools/meshes.py) and meshed by ``mathutils.geometry.delaunay_2d_cdt``
 keeping only triangles inside the outline.  The target pose bends each limb
 with a rotation that varies smoothly along it (examples/deform.py): the
 right arm curls up and over by 200 degrees, the left arm lowers by 50, the
@@ -36,7 +36,7 @@ def _load(name, path):
     return module
 
 
-meshes = _load("meshes", os.path.join(ROOT, "python", "bdinterp", "meshes.py"))
+meshes = _load("meshes", os.path.join(ROOT, "tools", "bdinterp_tools", "meshes.py"))
 io = _load("io", os.path.join(ROOT, "python", "bdinterp", "io.py"))
 deform = _load("deform", os.path.join(ROOT, "examples", "deform.py"))
 

@@ -2,17 +2,23 @@
 
 Public API (numpy in, numpy out):
     interpolate(source, target, faces, t, *, anchor=None, method="bdi")
+    frames(source, target, faces, ts, *, method="bdi", anchor=None, **options)
     blend(shapes, faces, weights, *, anchor=None, base=0)
-    Interpolator(shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50)
+    Interpolator(shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50, threads=0)
+        .at(t), .blend(weights), .frames(ts), .stats (FrameStats)
     conformal_distortion(source, result, faces), area_ratio(source, result, faces),
     flipped_faces(source, result, faces)
-    AnchorPath, SolverError (a RuntimeError); invalid input raises ValueError.
+    Plane (the plane of planar 3D input), AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
+    SolverError (a RuntimeError); invalid input raises ValueError.
 """
-from ._core import SolverError
+from ._core import FrameStats, SolverError
+from .constants import METHOD_LABELS, METHODS, PLANAR_TOLERANCE
 from .distortion import area_ratio, conformal_distortion, flipped_faces
-from .interpolate import METHODS, AnchorPath, Interpolator, blend, interpolate
+from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
+from .plane import Plane
 
 __version__ = "0.1.0"
 
-__all__ = ["interpolate", "blend", "Interpolator", "AnchorPath", "conformal_distortion",
-           "area_ratio", "flipped_faces", "SolverError", "METHODS", "__version__"]
+__all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane",
+           "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "METHODS",
+           "METHOD_LABELS", "PLANAR_TOLERANCE", "__version__"]

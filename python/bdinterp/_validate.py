@@ -1,20 +1,38 @@
-"""Input checks and plane handling shared by the public functions.
+"""Input checks shared by the public functions; every message names the argument in the caller's terms.
 
 Everything the compiled core needs is turned into C-contiguous float64 (n, 2) and int32 (m, 3)
 arrays here; arrays that already have that layout are passed through without a copy.
 """
-from dataclasses import dataclass
+import numbers
 
 import numpy as np
 
-# Relative out-of-plane tolerance for 3D input: Blender stores float32 coordinates, whose rounding
-# moves a rotated planar mesh off its plane by ~1e-7 of its size.
-PLANAR_TOLERANCE = 1e-5
+from .constants import INT_MAX, PLANAR_TOLERANCE
+from .plane import Plane
+
+
+def real_array(x, name):
+    """`x` as a float64 array; ValueError naming `name` for ragged, complex or non-numeric input."""
+    try:
+        a = np.asarray(x)
+    except ValueError:  # numpy >= 1.24 refuses ragged nested sequences
+        raise ValueError(f"{name} is ragged: its rows have different lengths") from None
+    if a.dtype.kind == "c":
+        raise ValueError(f"{name} is complex (dtype {a.dtype}); give real coordinates, e.g. "
+                         f"np.c_[z.real, z.imag]")
+    if a.dtype.kind == "O":
+        try:
+            return np.asarray(a, dtype=np.float64)
+        except (TypeError, ValueError):
+            raise ValueError(f"{name} must hold real numbers; it holds other objects") from None
+    if a.dtype.kind not in "biuf":
+        raise ValueError(f"{name} must hold real numbers, got dtype {a.dtype}")
+    return np.asarray(a, dtype=np.float64)
 
 
 def coordinates(x, name):
-    """Returns `x` as a float64 (n, 2) or (n, 3) array; ValueError naming `name` otherwise."""
-    a = np.asarray(x, dtype=np.float64)
+    """Returns `x` as a float64 (n, 2) or (n, 3) array of finite numbers; ValueError naming `name`."""
+    a = real_array(x, name)
     if a.ndim != 2 or a.shape[1] not in (2, 3):
         raise ValueError(f"{name} must be an (n, 2) or (n, 3) array of coordinates, got shape {a.shape}")
     if a.shape[0] == 0:
@@ -25,11 +43,30 @@ def coordinates(x, name):
     return a
 
 
+def _ragged_face(f):
+    """Index of the first face of a nested sequence that does not have 3 entries, or None."""
+    try:
+        for i, row in enumerate(f):
+            if len(row) != 3:
+                return i, len(row)
+    except TypeError:
+        return None
+    return None
+
+
 def faces(f, num_vertices):
-    """Returns faces as a C-contiguous int32 (m, 3) array after checking the index range."""
-    a = np.asarray(f)
-    if a.ndim != 2 or a.shape[1] != 3:
-        raise ValueError(f"faces must be an (m, 3) array of vertex indices, got shape {a.shape}")
+    """Returns faces as a C-contiguous int32 (m, 3) array after checking type, shape and index range."""
+    try:
+        a = np.asarray(f)
+    except ValueError:
+        a = None
+    if a is None or a.dtype.kind == "O" or (a.ndim == 2 and a.shape[1] != 3):
+        bad = _ragged_face(f)
+        if bad is not None:
+            raise ValueError(f"faces must be triangles: face {bad[0]} has {bad[1]} vertices")
+    if a is None or a.ndim != 2 or a.shape[1] != 3:
+        raise ValueError(f"faces must be an (m, 3) array of vertex indices, got "
+                         f"{'a ragged list' if a is None else f'shape {a.shape}'}")
     if a.size and not np.issubdtype(a.dtype, np.integer):
         raise ValueError(f"faces must be an integer array, got dtype {a.dtype}")
     if a.size:
@@ -41,34 +78,43 @@ def faces(f, num_vertices):
     return np.ascontiguousarray(a, dtype=np.int32)
 
 
-@dataclass(frozen=True)
-class Plane:
-    """An orthonormal frame (origin, axes rows e1, e2, normal) of the plane of planar 3D input."""
-    origin: np.ndarray
-    axes: np.ndarray  # (2, 3)
-    normal: np.ndarray
+def real(x, name):
+    """A finite real scalar as float; ValueError naming `name` otherwise (complex, str, NaN, inf)."""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (numbers.Real, np.floating, np.integer)):
+        if isinstance(x, np.ndarray) and x.ndim == 0 and x.dtype.kind in "iuf":
+            x = x.item()
+        else:
+            raise ValueError(f"{name} must be a real number, got {x!r}")
+    value = float(x)
+    if not np.isfinite(value):
+        raise ValueError(f"{name} must be finite, got {value}")
+    return value
 
-    @classmethod
-    def fit(cls, points):
-        origin = points.mean(axis=0)
-        _, _, vt = np.linalg.svd(points - origin, full_matrices=False)
-        return cls(origin, vt[:2].copy(), vt[2].copy())
 
-    def to_plane(self, points, name, tolerance=PLANAR_TOLERANCE):
-        """Plane coordinates (n, 2) of 3D `points`; ValueError if a point is off the plane."""
-        rel = points - self.origin
-        off = np.abs(rel @ self.normal)
-        size = max(float(np.ptp(points, axis=0).max()), np.finfo(float).tiny)
-        worst = int(np.argmax(off))
-        if off[worst] > tolerance * size:
-            raise ValueError(
-                f"{name} is not planar: vertex {worst} is {off[worst]:.3g} off the plane of the base "
-                f"shape (tolerance {tolerance:g} x size {size:.3g} = {tolerance * size:.3g})")
-        return np.ascontiguousarray(rel @ self.axes.T)
+def positive(x, name):
+    """A finite real scalar > 0 (a tolerance); ValueError naming `name` otherwise."""
+    value = real(x, name)
+    if not value > 0:
+        raise ValueError(f"{name} must be > 0, got {value:g}")
+    return value
 
-    def to_space(self, uv):
-        """3D points of plane coordinates uv (..., 2)."""
-        return self.origin + uv @ self.axes
+
+def integer(x, name, low=0, high=INT_MAX):
+    """An int in [low, high] (the core's options are C ints); ValueError naming `name` otherwise."""
+    if isinstance(x, (bool, np.bool_)) or not isinstance(x, (numbers.Integral, np.integer)):
+        raise ValueError(f"{name} must be an integer, got {x!r}")
+    if not low <= int(x) <= high:
+        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {int(x)}")
+    return int(x)
+
+
+def times(ts, name="ts"):
+    """A 1-D float64 array of finite times; ValueError naming `name` and the first bad entry."""
+    a = real_array(ts, name).ravel()
+    bad = np.flatnonzero(~np.isfinite(a))
+    if bad.size:
+        raise ValueError(f"{name}[{bad[0]}] must be finite, got {a[bad[0]]}")
+    return a
 
 
 def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE):
@@ -79,11 +125,12 @@ def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE):
     """
     if isinstance(shapes, np.ndarray) and shapes.ndim == 3:
         shapes = list(shapes)
+    if isinstance(shapes, (str, bytes)) or not hasattr(shapes, "__len__"):
+        raise ValueError(f"shapes must be a sequence of (n, 2) or (n, 3) arrays, got {shapes!r:.60}")
     shapes = [coordinates(s, f"shape {i}") for i, s in enumerate(shapes)]
     if not shapes:
         raise ValueError("need at least one shape")
-    if not 0 <= base < len(shapes):
-        raise ValueError(f"base shape index {base} out of range [0, {len(shapes)})")
+    base = integer(base, "base", 0, len(shapes) - 1) if len(shapes) else base
     n, d = shapes[0].shape
     for i, s in enumerate(shapes):
         if s.shape != (n, d):

@@ -1,8 +1,10 @@
 """Command-line interface: ``bdinterp`` / ``python3 -m bdinterp``.
 
-Subcommands: interpolate, compare, plot-distortion, convergence (see
-``bdinterp --help``).  Input errors end with exit code 2 and one line
-``bdinterp: error: ...`` on stderr.
+Subcommands: interpolate, compare, plot-distortion (see ``bdinterp --help``).
+Input errors end with exit code 2 and one line ``bdinterp: error: ...`` on
+stderr naming the file; solver failures with exit code 3.  The figures need
+matplotlib (imported only by the commands that draw).  The convergence
+experiment of Fig. 6 is a repository tool: tools/bdinterp_tools/convergence.py.
 """
 
 import argparse
@@ -10,6 +12,8 @@ import os
 import sys
 
 import numpy as np
+
+from bdinterp.constants import METHODS
 
 PROG = "bdinterp"
 EXIT_INPUT = 2
@@ -32,6 +36,32 @@ class _Parser(argparse.ArgumentParser):
 
 class _InputError(Exception):
     pass
+
+
+class Progress:
+    """Plain-text progress bar on stderr: ``label [#####.....] 5/10``.
+
+    enabled=None: only when the stream is a terminal (no carriage-return
+    clutter in logs and captured output).
+    """
+
+    def __init__(self, total, label, stream=None, enabled=None):
+        self.total, self.label, self.done = max(1, total), label, 0
+        self.stream = sys.stderr if stream is None else stream
+        if enabled is None:
+            enabled = hasattr(self.stream, "isatty") and self.stream.isatty()
+        self.enabled = enabled
+
+    def step(self, n=1):
+        self.done = min(self.total, self.done + n)
+        if not self.enabled:
+            return
+        filled = 30 * self.done // self.total
+        end = "\n" if self.done == self.total else ""
+        bar = "#" * filled + "." * (30 - filled)
+        self.stream.write(f"\r{self.label} [{bar}] {self.done}/{self.total}"
+                          f"{end}")
+        self.stream.flush()
 
 
 def _pair_args(p):
@@ -77,7 +107,7 @@ def build_parser():
                    help="first and last t (default 0 1; values outside "
                         "[0,1] extrapolate while the blended metric stays "
                         "valid)")
-    p.add_argument("--method", choices=("bdi", "arap", "linear"),
+    p.add_argument("--method", choices=METHODS,
                    default="bdi", help="bdi (default), or a baseline")
     p.add_argument("-o", "--output", required=True, metavar="DIR",
                    help="output directory (created if missing)")
@@ -111,28 +141,6 @@ def build_parser():
     _output_arg(p, "figure")
     p.set_defaults(run=cmd_plot_distortion)
 
-    p = sub.add_parser(
-        "convergence", help="discrete vs continuous distortion (Fig. 6)",
-        description="E2 and Einf (paper eq. 2) between the continuous "
-                    "distortion of the blended metric and the discrete "
-                    "one, vs vertex count, for the Teichmueller maps "
-                    "phi1-phi3 on refined disk meshes.")
-    p.add_argument("--levels", type=int, default=4, metavar="L",
-                   help="refinement levels; each has ~4x the vertices "
-                        "(default 4)")
-    p.add_argument("--start", type=int, default=100, metavar="N",
-                   help="approximate vertex count of level 0 (default 100)")
-    p.add_argument("-t", type=float, nargs="+", default=[0.25, 0.5, 0.75],
-                   help="t values (default 0.25 0.5 0.75)")
-    p.add_argument("--maps", nargs="+", default=["phi1", "phi2", "phi3"],
-                   choices=["phi1", "phi2", "phi3"],
-                   help="maps to test (default all three)")
-    p.add_argument("--csv", metavar="FILE.csv",
-                   help="also write the numbers as CSV")
-    p.add_argument("-q", "--quiet", action="store_true",
-                   help="no progress bar (shown on stderr if a terminal)")
-    _output_arg(p, "figure")
-    p.set_defaults(run=cmd_convergence)
     return parser
 
 
@@ -157,14 +165,7 @@ def _load(args):
 
 
 def _progress(args, total, label):
-    from bdinterp.plots import Progress
     return Progress(total, label, enabled=False if args.quiet else None)
-
-
-def _save(fig, path):
-    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
-    fig.savefig(path, dpi=120, bbox_inches="tight")
-    print(f"wrote {path}")
 
 
 def _positive(name, value, minimum=1):
@@ -179,37 +180,30 @@ def cmd_interpolate(args):
     X0, X1, F, anchor = _load(args)
     ts = np.linspace(args.range[0], args.range[1], args.frames)
     bar = _progress(args, len(ts), "interpolate")
-    frames = []
-    if args.method == "bdi":
-        interp = bdinterp.Interpolator([X0, X1], F, anchor=anchor)
-    for t in ts:
-        frames.append(interp.at(t) if args.method == "bdi" else
-                      bdinterp.interpolate(X0, X1, F, t, anchor=anchor,
-                                           method=args.method))
-        bar.step()
+    frames = bdinterp.frames(X0, X1, F, ts, method=args.method, anchor=anchor)
+    bar.step(len(ts))
     io.write_frames(args.output, frames, F, ts=ts)
     K = max(np.max(bdinterp.conformal_distortion(X0, X, F)) for X in frames)
-    flipped = max(np.count_nonzero(bdinterp.area_ratio(X0, X, F) <= 0)
-                  for X in frames)
+    flipped = max(bdinterp.flipped_faces(X0, X, F) for X in frames)
     print(f"wrote {len(frames)} frames to {args.output} "
           f"(max K {K:.4g}, at most {flipped} flipped faces per frame)")
 
 
 def _sweep(args, X0, X1, F, anchor, ts, methods):
-    from bdinterp import plots
+    from bdinterp import figures
     bar = _progress(args, len(ts) * len(methods), args.command)
-    return plots.sweep(X0, X1, F, ts, methods, anchor=anchor, progress=bar)
+    return figures.sweep(X0, X1, F, ts, methods, anchor=anchor, progress=bar)
 
 
 def cmd_compare(args):
-    from bdinterp import plots
+    from bdinterp import figures
     _positive("--samples", args.samples, 2)
     _positive("--top", args.top)
     X0, X1, F, anchor = _load(args)
     # The pictured t joins the graph's samples so its frame is computed.
     ts = np.union1d(np.linspace(0.0, 1.0, args.samples), [args.t])
-    result = _sweep(args, X0, X1, F, anchor, ts, plots.METHODS)
-    _save(plots.compare_figure(X0, X1, F, args.t, ts, result, args.top),
+    result = _sweep(args, X0, X1, F, anchor, ts, METHODS)
+    figures.save(figures.compare_figure(X0, X1, F, args.t, ts, result, args.top),
           args.output)
     i = int(np.argmin(np.abs(ts - args.t)))
     for m, r in result.items():
@@ -220,55 +214,52 @@ def cmd_compare(args):
 
 def cmd_plot_distortion(args):
     import bdinterp
-    from bdinterp import plots
+    from bdinterp import figures
     _positive("--samples", args.samples, 2)
     _positive("--triangles", args.triangles)
     X0, X1, F, anchor = _load(args)
     ts = np.linspace(0.0, 1.0, args.samples)
     r = _sweep(args, X0, X1, F, anchor, ts, ("bdi",))["bdi"]
-    sample = plots.pick_faces(bdinterp.conformal_distortion(X0, X1, F),
+    sample = figures.pick_faces(bdinterp.conformal_distortion(X0, X1, F),
                               args.triangles)
-    _save(plots.distortion_curves_figure(X0, X1, F, ts, r["frames"], r["K"],
+    figures.save(figures.distortion_curves_figure(X0, X1, F, ts, r["frames"], r["K"],
                                          sample), args.output)
 
 
-def cmd_convergence(args):
-    from bdinterp import plots
-    _positive("--levels", args.levels)
-    _positive("--start", args.start, 10)
-    bar = _progress(args, len(args.maps) * args.levels * len(args.t),
-                    "convergence")
-    data = plots.convergence(args.maps, args.t, args.levels, args.start,
-                             progress=bar)
-    _save(plots.convergence_figure(data), args.output)
-    rows = ["map,t,vertices,E2,Einf"] + [
-        f"{name},{t:g},{n},{data['E2'][i, k, j]:.6g},"
-        f"{data['Einf'][i, k, j]:.6g}"
-        for i, name in enumerate(data["maps"])
-        for k, t in enumerate(data["ts"])
-        for j, n in enumerate(data["vertices"])]
-    if args.csv:
-        with open(args.csv, "w", encoding="utf-8") as f:
-            f.write("\n".join(rows) + "\n")
-        print(f"wrote {args.csv}")
-    print("\n".join(rows))
+def _inputs(args):
+    """The input files of a parsed command line, as its errors name them."""
+    files = [getattr(args, k, None) for k in ("source", "target")]
+    return [str(f) for f in files if f is not None]
+
+
+def _in_files(message, files):
+    """message prefixed with the input files unless it already names one (the readers' do)."""
+    if not files or any(f in message for f in files):
+        return message
+    return f"{' + '.join(files)}: {message}"
 
 
 def main(argv=None):
-    """Entry point; returns the exit code (0 ok, 2 bad input, 3 solver)."""
+    """Entry point; returns the exit code (0 ok, 2 bad input, 3 solver).
+
+    Every error names the file it is about: reader errors name file and line, errors about the
+    mesh as a whole (e.g. 'face 5 has zero area') are prefixed with the input files.
+    """
+    files = []
     try:
         args = build_parser().parse_args(argv)
+        files = _inputs(args)
         args.run(args)
     except _InputError as e:
         return _fail(str(e), EXIT_INPUT)
     except OSError as e:
         what = e.strerror or str(e)
         where = f"{e.filename}: " if e.filename else ""
-        return _fail(f"{where}{what}", EXIT_INPUT)
-    except ValueError as e:
-        return _fail(str(e), EXIT_INPUT)
+        return _fail(_in_files(f"{where}{what}", files), EXIT_INPUT)
+    except (ValueError, ImportError) as e:
+        return _fail(_in_files(str(e), files), EXIT_INPUT)
     except RuntimeError as e:  # bdinterp.SolverError and other core failures
-        return _fail(f"solver failed: {e}", EXIT_SOLVER)
+        return _fail(_in_files(f"solver failed: {e}", files), EXIT_SOLVER)
     return 0
 
 

@@ -3,9 +3,17 @@ import numpy as np
 
 from . import _core
 from . import _validate
+from .plane import Plane
 
 
 def _pair(source, result, faces):
+    """Both shapes in one 2D frame, so that a face keeps its orientation unless the map flips it.
+
+    3D input: the frame is the source's plane. A result in that plane (every result of
+    bdinterp for 3D input) is projected into it; a result in another plane (e.g. the source moved
+    rigidly in space) gets its own plane, turned so that its normal points to the source normal's
+    side.
+    """
     s = _validate.coordinates(source, "source")
     r = _validate.coordinates(result, "result")
     if s.shape != r.shape:
@@ -13,15 +21,18 @@ def _pair(source, result, faces):
     f = _validate.faces(faces, s.shape[0])
     if s.shape[1] == 2:
         return np.ascontiguousarray(s), np.ascontiguousarray(r), f
-    plane = _validate.Plane.fit(s)
-    own = _validate.Plane.fit(r)
-    if np.dot(own.normal, plane.normal) < 0:  # keep the sign of flipped faces meaningful
-        own = _validate.Plane(own.origin, own.axes[::-1].copy(), -own.normal)
+    plane = Plane.fit(s)
+    own = plane
+    if not plane.contains(r):
+        own = Plane.fit(r)
+        if np.dot(own.normal, plane.normal) < 0:
+            own = own.flipped()
     return plane.to_plane(s, "source"), own.to_plane(r, "result"), f
 
 
 def conformal_distortion(source, result, faces):
-    """(m,) K = sigma_max / sigma_min of each face's affine map source -> result (1 = conformal)."""
+    """(m,) K = sigma_max / sigma_min of each face's affine map source -> result (1 = conformal,
+    inf for a collapsed result face)."""
     return _core.conformal_distortion(*_pair(source, result, faces))
 
 

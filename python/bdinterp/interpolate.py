@@ -1,4 +1,4 @@
-"""The public interpolation functions: one-off calls and the precomputing Interpolator."""
+"""The public interpolation functions: the precomputing Interpolator, frames(), interpolate(), blend()."""
 from dataclasses import dataclass
 from typing import Optional
 
@@ -6,89 +6,115 @@ import numpy as np
 
 from . import _core
 from . import _validate
-
-METHODS = ("bdi", "arap", "linear")
+from .constants import MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
 
 
 @dataclass
 class AnchorPath:
     """A trajectory for the anchor of a two-shape interpolation.
 
-    At time ts[k] the anchor point (the area-weighted centroid, or `vertex`) is at positions[k]
-    ((k, 2) plane or (k, 3) space coordinates) and turned by angles[k] radians relative to the source.
-    The path is corrected by the linear function of t that makes it pass through the source's and the
-    target's own anchors at t = 0 and 1, so the inputs are always reproduced exactly.
+    At time ts[k] (strictly increasing) the anchor point (the area-weighted centroid, or `vertex`) is
+    at positions[k] ((k, 2) plane or (k, 3) space coordinates, like the shapes) and turned by
+    angles[k] radians (counter-clockwise) relative to the source. The path is corrected by the linear
+    function of t that makes it pass through the source's and the target's own anchors at t = 0 and
+    1, so the inputs are always reproduced exactly.
     """
     ts: np.ndarray
     positions: np.ndarray
     angles: np.ndarray
     vertex: Optional[int] = None
 
-
-def _anchor_arguments(anchor, num_vertices, plane):
-    if anchor is None or (isinstance(anchor, str) and anchor == "auto"):
-        return {}
-    if isinstance(anchor, (int, np.integer)) and not isinstance(anchor, bool):
-        if not 0 <= anchor < num_vertices:
-            raise ValueError(f"anchor vertex {anchor} out of range [0, {num_vertices})")
-        return {"anchor_vertex": int(anchor)}
-    if isinstance(anchor, AnchorPath):
-        pos = np.asarray(anchor.positions, dtype=np.float64)
-        ts = np.asarray(anchor.ts, dtype=np.float64).ravel()
-        angles = np.asarray(anchor.angles, dtype=np.float64).ravel()
-        if pos.ndim != 2 or pos.shape[1] not in (2, 3):
-            raise ValueError(f"anchor path positions must be (k, 2) or (k, 3), got {pos.shape}")
+    def to_core(self, num_vertices, plane):
+        """The validated _core.Anchor of this path (positions in plane coordinates)."""
+        ts = _validate.times(self.ts, "anchor path ts")
+        if ts.size == 0 or np.any(np.diff(ts) <= 0):
+            raise ValueError(f"anchor path ts must be non-empty and strictly increasing, got "
+                             f"{ts.tolist()[:6]}")
+        pos = _validate.coordinates(self.positions, "anchor path positions")
+        angles = _validate.times(self.angles, "anchor path angles")
+        if pos.shape[0] != ts.size or angles.size != ts.size:
+            raise ValueError(f"anchor path: {ts.size} ts, {pos.shape[0]} positions and "
+                             f"{angles.size} angles; they must have one entry each per time")
         if pos.shape[1] == 3:
             if plane is None:
                 raise ValueError("anchor path positions are 3D but the shapes are 2D")
             pos = plane.to_plane(pos, "anchor path", tolerance=np.inf)
         elif plane is not None:
             raise ValueError("anchor path positions must be 3D like the shapes")
-        out = {"path_t": ts.tolist(), "path_positions": np.ascontiguousarray(pos),
-               "path_angles": angles.tolist()}
-        if anchor.vertex is not None:
-            out["anchor_vertex"] = int(anchor.vertex)
-        return out
+        vertex = -1 if self.vertex is None else _validate.integer(
+            self.vertex, "anchor path vertex", 0, num_vertices - 1)
+        return _core.Anchor.along(_core.AnchorPath(ts.tolist(), np.ascontiguousarray(pos),
+                                                   angles.tolist()), vertex)
+
+
+def _core_anchor(anchor, num_vertices, plane):
+    if anchor is None or (isinstance(anchor, str) and anchor == "auto"):
+        return _core.Anchor.centroid()
+    if isinstance(anchor, (int, np.integer)) and not isinstance(anchor, (bool, np.bool_)):
+        if not 0 <= anchor < num_vertices:
+            raise ValueError(f"anchor vertex {anchor} out of range [0, {num_vertices})")
+        return _core.Anchor.at_vertex(int(anchor))
+    if isinstance(anchor, AnchorPath):
+        return anchor.to_core(num_vertices, plane)
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
+
+
+def _options(base, tol, max_iterations, threads):
+    o = _core.InterpolatorOptions()
+    o.base = base
+    o.tolerance = _validate.positive(tol, "tol")
+    o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
+    o.threads = _validate.integer(threads, "threads")
+    return o
 
 
 class Interpolator:
     """Bounded-distortion in-betweens of k shapes with one connectivity, precomputed once.
 
-    shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in one plane); faces: (m, 3) ints.
-    anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a vertex index
-    (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start from.
-    tol: convergence tolerance on max |2 pi - angle sum|; threads: cores to use (frames() splits
-    a sequence over them, a single frame its loops; 0 = all cores, 1 = sequential). Not
-    thread-safe: use one Interpolator per thread.
+    shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in the plane of shapes[base]); faces:
+    (m, 3) ints. anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a
+    vertex index (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start
+    from. tol: convergence tolerance on max |2 pi - angle sum| (radians, > 0); max_iterations: Newton
+    steps before SolverError (>= 1); threads: cores to use (frames() splits a sequence over them, a
+    single frame its loops; 0 = all cores, 1 = sequential).
+
+    Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
+    taken with the GIL released); each returns what it would have returned alone.
     """
 
-    def __init__(self, shapes, faces, *, anchor=None, base=0, tol=1e-10, max_iterations=50,
-                 threads=0):
+    def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
+                 max_iterations=MAX_ITERATIONS, threads=THREADS):
         shapes2d, self._plane = _validate.planar_shapes(shapes, base)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
-        kwargs = _anchor_arguments(anchor, self._n, self._plane)
-        self._core = _core.Interpolator(shapes2d, f, base=base, tolerance=tol,
-                                        max_iterations=max_iterations, **kwargs)
-        self.threads = threads
+        options = _options(base, tol, max_iterations, threads)
+        self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._n, self._plane),
+                                        options)
+
+    @property
+    def plane(self):
+        """The Plane of 3D input (results are mapped back into it), or None for 2D input."""
+        return self._plane
 
     def _out(self, uv):
         return uv if self._plane is None else self._plane.to_space(uv)
 
     def at(self, t):
-        """The in-between at t (two shapes); (n, d) like the inputs."""
-        return self._out(self._core.at(float(t)))
+        """The in-between at t (two shapes; finite, may lie outside [0, 1]); (n, d) like the inputs."""
+        return self._out(self._core.at(_validate.real(t, "t")))
 
     def blend(self, weights):
         """The bounded-distortion blend for weights (k,) summing to 1; (n, d)."""
-        w = np.asarray(weights, dtype=np.float64).ravel()
+        w = _validate.times(weights, "weights")
+        if w.size != self._k:
+            raise ValueError(f"weights must have one entry per shape ({self._k}), got {w.size}")
         return self._out(self._core.blend(w))
 
     def frames(self, ts):
-        """In-betweens for a sequence of t (two shapes), each warm-started from the previous: (len(ts), n, d)."""
-        ts = np.asarray(ts, dtype=np.float64).ravel()
+        """In-betweens for a sequence of t (two shapes), each warm-started from the previous:
+        (len(ts), n, d)."""
+        ts = _validate.times(ts)
         out = np.empty((ts.size * self._n, 2))
         self._core.frames_into(ts.tolist(), out)
         return self._out(out.reshape(ts.size, self._n, 2))
@@ -98,39 +124,53 @@ class Interpolator:
         """Threads used by frames() and by each frame (0 = one per core, 1 = sequential)."""
         return self._core.threads
 
-    @threads.setter
-    def threads(self, n):
-        if int(n) < 0:
-            raise ValueError(f"threads must be >= 0, got {n}")
-        self._core.threads = int(n)
-
     @property
     def stats(self):
-        """Statistics of the last at()/blend() (or of all frames of the last frames()): iterations,
-        residual (max |2 pi - angle sum|), broken_triangles, max_broken_triangles, flatness,
-        pieces, factorizations, chord_steps, seconds."""
+        """FrameStats of the last at()/blend() (or of all frames of the last frames()): attributes
+        (and keys) iterations, residual (max |2 pi - angle sum|), broken_triangles,
+        max_broken_triangles, flatness, pieces, factorizations, chord_steps, seconds."""
         return self._core.stats
+
+
+def _method(method):
+    if not isinstance(method, str) or method not in METHODS:
+        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
+    return method
+
+
+def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
+    """In-betweens of `source` and `target` ((n, 2) or planar (n, 3)) at every t of ts: (len(ts), n, d).
+
+    method: "bdi" (bounded distortion, the default; options are Interpolator's tol, max_iterations,
+    threads), "arap" (Alexa et al. 2000 with unwrapped rotations) or "linear" (vertex blend). The
+    baselines take no anchor (None or "auto") and no options.
+    """
+    if _method(method) == "bdi":
+        return Interpolator([source, target], faces, anchor=anchor, **options).frames(ts)
+    if anchor not in (None, "auto") or options:
+        given = ["anchor"] * (anchor not in (None, "auto")) + sorted(options)
+        raise ValueError(f"{', '.join(given)} not supported with method={method!r}")
+    (s, g), plane = _validate.planar_shapes([source, target])
+    f = _validate.faces(faces, s.shape[0])
+    ts = _validate.times(ts)
+    if method == "linear":
+        uv = [_core.linear_interpolate(s, g, t) for t in ts.tolist()]
+    else:
+        arap = _core.ArapInterpolator(s, g, f)
+        uv = [arap.at(t) for t in ts.tolist()]
+    uv = np.stack(uv) if uv else np.empty((0,) + s.shape)
+    return uv if plane is None else plane.to_space(uv)
 
 
 def interpolate(source, target, faces, t, *, anchor=None, method="bdi"):
     """The in-between of `source` and `target` ((n, 2) or planar (n, 3)) at t; same shape as source.
 
-    method: "bdi" (bounded distortion, the default), "arap" (Alexa et al. 2000 with unwrapped
-    rotations) or "linear" (vertex blend).
+    method: one of bdinterp.METHODS (see frames()).
     """
-    if method not in METHODS:
-        raise ValueError(f"method must be one of {METHODS}, got {method!r}")
-    if method == "bdi":
+    t = _validate.real(t, "t")
+    if _method(method) == "bdi":
         return Interpolator([source, target], faces, anchor=anchor).at(t)
-    (s, g), plane = _validate.planar_shapes([source, target])
-    f = _validate.faces(faces, s.shape[0])
-    if anchor is not None:
-        raise ValueError(f"anchor is not supported with method={method!r}")
-    if method == "linear":
-        uv = _core.linear_interpolate(s, g, float(t))
-    else:
-        uv = _core.ArapInterpolator(s, g, f).at(float(t))
-    return uv if plane is None else plane.to_space(uv)
+    return frames(source, target, faces, [t], method=method, anchor=anchor)[0]
 
 
 def blend(shapes, faces, weights, *, anchor=None, base=0):

@@ -36,32 +36,41 @@ def read_obj(path):
     Returns
     -------
     V : (n,2) float64, or (n,3) if some z is nonzero.
-    F : (m,3) int32, 0-based, n-gons fan-triangulated.
+    F : (m,3) int32, 0-based, n-gons triangulated by ear clipping.
 
     Raises
     ------
     ValueError naming the file and line for malformed lines, indices out of
     range, or a file with no faces; OSError if the file cannot be read.
     """
-    verts, faces = [], []
-    with open(path, encoding="utf-8") as f:
-        for lineno, line in enumerate(f, 1):
-            words = line.split("#", 1)[0].split()
+    # Imported here: examples/character/make_character.py loads this file by
+    # path in Blender (no package, so no relative import) to write OBJs.
+    from .polygon import triangulate
+    verts, polygons = [], []
+    with open(path, "rb") as f:
+        for lineno, raw in enumerate(f, 1):
+            where = f"{path}:{lineno}"
+            try:
+                words = raw.split(b"#", 1)[0].decode("utf-8").split()
+            except UnicodeDecodeError:
+                raise ValueError(f"{where}: bytes that are not UTF-8 outside a "
+                                 f"comment") from None
             if not words:
                 continue
-            where = f"{path}:{lineno}"
             if words[0] == "v":
                 verts.append(_parse_vertex(words[1:], where))
             elif words[0] == "f":
-                faces.extend(_parse_face(words[1:], len(verts), where))
-    if not faces:
+                polygons.append(_parse_face(words[1:], len(verts), where))
+    if not polygons:
         raise ValueError(f"{path}: no faces ('f' lines) found")
-    V = np.array(verts, dtype=np.float64)
-    F = np.array(faces, dtype=np.int32)
-    if F.max() >= len(V):
+    V = np.array(verts, dtype=np.float64).reshape(-1, 3)
+    top = max(max(p) for p in polygons)
+    if top >= len(V):
         # A face may refer forward to a vertex listed later; check at the end.
-        raise ValueError(f"{path}: face refers to vertex {F.max() + 1} "
+        raise ValueError(f"{path}: face refers to vertex {top + 1} "
                          f"but the file has only {len(V)} vertices")
+    F = np.array([t for p in polygons for t in triangulate(p, V)],
+                 dtype=np.int32)
     if np.all(V[:, 2] == 0.0):
         V = V[:, :2]
     return np.ascontiguousarray(V), F
@@ -98,7 +107,7 @@ def _parse_face(words, n_seen, where):
             raise ValueError(f"{where}: relative face index '{w}' points "
                              f"before the first vertex")
         idx.append(i)
-    return [(idx[0], idx[k], idx[k + 1]) for k in range(1, len(idx) - 1)]
+    return idx
 
 
 def write_obj(path, V, F, comment=None):
@@ -134,6 +143,8 @@ def read_json(path):
         except json.JSONDecodeError as e:
             raise ValueError(f"{path}:{e.lineno}: invalid JSON: "
                              f"{e.msg}") from None
+        except UnicodeDecodeError as e:
+            raise ValueError(f"{path}: not UTF-8 (byte {e.start})") from None
     if not (isinstance(data, dict) and "faces" in data
             and "shapes" in data):
         raise ValueError(f"{path}: expected an object with keys 'faces' "

@@ -1,8 +1,14 @@
-"""Shared fixtures: the test meshes come from bdinterp.meshes (jittered Delaunay, never grid-aligned)."""
+"""Shared fixtures: the test meshes come from bdinterp_tools.meshes (jittered Delaunay, never
+grid-aligned). tools/ (the repository's non-installed helpers) is put on the path here."""
+import os
+import sys
+
 import numpy as np
 import pytest
 
-from bdinterp import meshes
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "tools"))
+
+from bdinterp_tools import meshes  # noqa: E402
 
 
 @pytest.fixture(scope="session")

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 import bdinterp
-from bdinterp import cli, io, meshes
-from bdinterp.plots import Progress
+from bdinterp import cli, io
+from bdinterp.cli import Progress
+from bdinterp_tools import meshes
 
 PNG_MAGIC = b"\x89PNG\r\n\x1a\n"
 
@@ -105,9 +106,13 @@ def test_compare_reports_each_method(pair, tmp_path, capsys):
 
 
 def test_convergence_writes_figure_and_csv(tmp_path, capsys):
+    # The Fig. 6 experiment, now the repository tool bdinterp_tools.convergence.
+    from bdinterp_tools import convergence
     png, csv = tmp_path / "conv.png", tmp_path / "conv.csv"
-    code, _, _ = run(["convergence", "--levels", 2, "--start", 40, "-t", 0.5,
-                      "--maps", "phi2", "-o", png, "--csv", csv], capsys)
+    code = convergence.main([str(a) for a in [
+        "--levels", 2, "--start", 40, "-t", 0.5, "--maps", "phi2", "-o", png,
+        "--csv", csv]])
+    capsys.readouterr()
     assert code == 0 and png.read_bytes()[:8] == PNG_MAGIC
     rows = csv.read_text().split()
     assert rows[0] == "map,t,vertices,E2,Einf" and len(rows) == 3

@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import bdinterp
-from bdinterp import meshes
+from bdinterp_tools import meshes
 
 
 def edge_lengths(X, F):

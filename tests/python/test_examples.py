@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 import bdinterp
-from bdinterp import io, meshes, plots
+from bdinterp import figures, io
+from bdinterp_tools import convergence, meshes
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["bar_half_bent", "spiral", "affine", "conformal", "teichmuller",
@@ -36,7 +37,7 @@ def load(name):
 @functools.lru_cache(maxsize=None)
 def swept(name):
     X0, X1, F = load(name)
-    return plots.sweep(X0, X1, F, TS)
+    return figures.sweep(X0, X1, F, TS)
 
 
 @pytest.mark.parametrize("name", NAMES)
@@ -76,7 +77,7 @@ def test_spiral_baseline_folds_where_bdi_does_not():
 
 
 @pytest.mark.parametrize("name", NAMES)
-@pytest.mark.parametrize("method", plots.METHODS)
+@pytest.mark.parametrize("method", bdinterp.METHODS)
 def test_reproduces_source_and_target(name, method):
     X0, X1, F = load(name)
     frames = swept(name)[method]["frames"]
@@ -130,7 +131,7 @@ def test_convergence_rates():
     # Fig. 6 left: discrete distortion -> continuous under refinement.  The
     # edge length halves per level; measured E2 ratio ~0.25 (O(h^2)) and
     # Einf ratio ~0.5 (O(h)); asserted with margin.
-    d = plots.convergence(levels=3, n0=100, ts=(0.25, 0.75))
+    d = convergence.convergence(levels=3, n0=100, ts=(0.25, 0.75))
     assert np.all(np.diff(d["vertices"]) > 0)
     assert np.all(d["E2"][..., 1:] / d["E2"][..., :-1] < 0.4)
     assert np.all(d["Einf"][..., 1:] / d["Einf"][..., :-1] < 0.7)

@@ -1,112 +1,78 @@
-"""Measurements and figures behind the CLI and the gallery.
+"""The measurements and figures behind the CLI's compare and plot-distortion commands.
 
-The measuring functions (:func:`sweep`, :func:`top_distortion`,
-:func:`convergence`) return numpy arrays and do not plot; the figure
-functions take their results and return a matplotlib Figure (Agg backend,
-nothing is shown).  Distortion is the per-face conformal distortion
-K = sigma_max / sigma_min of the map source -> frame.
+The measuring functions (:func:`sweep`, :func:`top_distortion`, :func:`pick_faces`) return numpy
+arrays; the figure functions take their results and return a matplotlib Figure (Agg backend, nothing
+is shown). matplotlib is imported only when a figure is drawn (the optional extra
+``bdinterp[plots]``); without it a clear ImportError says so. Distortion is the per-face conformal
+distortion K = sigma_max / sigma_min of the map source -> frame.
 """
 
-import sys
+import os
 
 import numpy as np
 
 import bdinterp
-from bdinterp import meshes
+from bdinterp.constants import METHOD_LABELS, METHODS
+from bdinterp.plane import Plane
 
-METHODS = ("bdi", "arap", "linear")
-LABELS = {"bdi": "BDI (bounded distortion)", "arap": "ARAP (Alexa 2000)",
-          "linear": "linear blend"}
 COLORS = {"bdi": "tab:blue", "arap": "tab:orange", "linear": "tab:green"}
 
 
-class Progress:
-    """Plain-text progress bar on stderr: ``label [#####.....] 5/10``.
-
-    enabled=None: only when the stream is a terminal (no carriage-return
-    clutter in logs and captured output).
-    """
-
-    def __init__(self, total, label, stream=None, enabled=None):
-        self.total, self.label, self.done = max(1, total), label, 0
-        self.stream = sys.stderr if stream is None else stream
-        if enabled is None:
-            enabled = hasattr(self.stream, "isatty") and self.stream.isatty()
-        self.enabled = enabled
-
-    def step(self, n=1):
-        self.done = min(self.total, self.done + n)
-        if not self.enabled:
-            return
-        filled = 30 * self.done // self.total
-        end = "\n" if self.done == self.total else ""
-        bar = "#" * filled + "." * (30 - filled)
-        self.stream.write(f"\r{self.label} [{bar}] {self.done}/{self.total}"
-                          f"{end}")
-        self.stream.flush()
-
-
-def _pyplot():
-    import matplotlib
+def pyplot():
+    """matplotlib.pyplot with the Agg backend; ImportError with the fix if matplotlib is missing."""
+    try:
+        import matplotlib
+    except ImportError:
+        raise ImportError("this command draws figures and needs matplotlib, which is not installed "
+                          "(Debian: apt-get install python3-matplotlib)") from None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     return plt
 
 
-def to_plane(X, F):
-    """2D coordinates (n,2) of a planar shape X (n,2 or n,3).
+def save(fig, path, dpi=120):
+    """Writes fig to path (format from the extension; folders created) and closes it."""
+    os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+    fig.savefig(path, dpi=dpi, bbox_inches="tight")
+    pyplot().close(fig)
+    print(f"wrote {path}")
 
-    3D shapes are projected onto their best-fit plane, with the in-plane
-    axes chosen so that the mesh F has positive total area (plots and
-    distortion are then as seen from the side the faces point to).
-    """
+
+def to_plane(X, F):
+    """2D coordinates (n, 2) of a planar shape X ((n, 2) or (n, 3)): 3D shapes in their plane, seen
+    from the side the faces F point to (Plane.fit with faces)."""
     X = np.asarray(X, dtype=np.float64)
     if X.shape[1] == 2:
         return X
-    c = X - X.mean(axis=0)
-    basis = np.linalg.svd(c, full_matrices=False)[2][:2]
-    Y = c @ basis.T
-    if meshes.signed_areas(Y, F).sum() < 0:
-        Y[:, 1] = -Y[:, 1]
-    return Y
+    return Plane.fit(X, F).to_plane(X, "shape", tolerance=np.inf)
 
 
-def sweep(source, target, faces, ts, methods=METHODS, anchor=None,
-          progress=None):
-    """Interpolate at every t in ts with each method and measure.
+def sweep(source, target, faces, ts, methods=METHODS, anchor=None, progress=None):
+    """Frames at every t in ts with each method (bdinterp.frames) and their measurements.
 
     Returns dict method -> dict with
       ``frames`` (k,n,d), ``K`` (k,m) per-face distortion w.r.t. source,
       ``flipped`` (k,) faces with area ratio <= 0 (flipped or collapsed),
-      ``iterations`` (k,) Newton iterations (bdi only; -1 for baselines).
-    ``progress``: optional :class:`Progress`, stepped once per frame.
+      ``iterations`` the most Newton iterations of a frame (bdi only; -1 for baselines).
+    ``progress``: optional object with step(n), stepped by len(ts) per method.
     """
     ts = np.asarray(ts, dtype=np.float64)
     out = {}
     for method in methods:
-        frames, iters = [], []
+        iterations = -1
         if method == "bdi":
-            interp = bdinterp.Interpolator([source, target], faces,
-                                           anchor=anchor)
-        for t in ts:
-            if method == "bdi":
-                frames.append(interp.at(t))
-                iters.append(interp.stats.get("iterations", -1))
-            else:
-                frames.append(bdinterp.interpolate(source, target, faces, t,
-                                                   anchor=anchor,
-                                                   method=method))
-                iters.append(-1)
-            if progress is not None:
-                progress.step()
-        frames = np.stack(frames)
+            interp = bdinterp.Interpolator([source, target], faces, anchor=anchor)
+            frames = interp.frames(ts)
+            iterations = interp.stats.iterations
+        else:
+            frames = bdinterp.frames(source, target, faces, ts, method=method)
+        if progress is not None:
+            progress.step(len(ts))
         out[method] = {
             "frames": frames,
-            "K": np.stack([bdinterp.conformal_distortion(source, X, faces)
-                           for X in frames]),
-            "flipped": np.array([np.count_nonzero(
-                bdinterp.area_ratio(source, X, faces) <= 0) for X in frames]),
-            "iterations": np.array(iters),
+            "K": np.stack([bdinterp.conformal_distortion(source, X, faces) for X in frames]),
+            "flipped": np.array([bdinterp.flipped_faces(source, X, faces) for X in frames]),
+            "iterations": iterations,
         }
     return out
 
@@ -125,41 +91,6 @@ def top_distortion(K, n=100):
     K = np.asarray(K, dtype=np.float64)
     n = min(n, K.shape[1])
     return -np.sort(-normalized_distortion(K), axis=1)[:, :n]
-
-
-def convergence(maps=("phi1", "phi2", "phi3"), ts=(0.25, 0.5, 0.75),
-                levels=4, n0=100, seed=0, progress=None):
-    """Discrete vs continuous distortion under refinement (Fig. 6 left).
-
-    On a refinement sequence of disk meshes (meshes.disk_sequence over
-    meshes.MAP_DOMAIN) with target = map(source), compare the BDI frame's
-    per-face distortion K^_t(f) with the continuous K_t at the face
-    barycentre (meshes.blended_distortion).  Paper eq. (2):
-      E2   = sum_f A_f |K_t(f) - K^_t(f)|^2 / sum_f A_f  (A_f: area in frame),
-      Einf = max_f |K_t(f) - K^_t(f)|.
-    Returns dict with ``vertices`` (levels,), and ``E2``, ``Einf`` arrays
-    (len(maps), len(ts), levels).
-    """
-    center, radius = meshes.MAP_DOMAIN
-    seq = meshes.disk_sequence(levels, n0, seed, center=center, radius=radius)
-    E2 = np.zeros((len(maps), len(ts), levels))
-    Einf = np.zeros_like(E2)
-    for i, name in enumerate(maps):
-        for j, (V, F) in enumerate(seq):
-            interp = bdinterp.Interpolator([V, meshes.apply_map(name, V)], F)
-            bary = V[F].mean(axis=1)
-            for k, t in enumerate(ts):
-                X = interp.at(t)
-                err = (meshes.blended_distortion(name, bary, t)
-                       - bdinterp.conformal_distortion(V, X, F))
-                area = np.abs(meshes.signed_areas(X, F))
-                E2[i, k, j] = np.sum(area * err ** 2) / np.sum(area)
-                Einf[i, k, j] = np.max(np.abs(err))
-                if progress is not None:
-                    progress.step()
-    return {"maps": tuple(maps), "ts": tuple(ts),
-            "vertices": np.array([len(V) for V, _ in seq]),
-            "E2": E2, "Einf": Einf}
 
 
 # ---------------------------------------------------------------- figures
@@ -215,7 +146,7 @@ def compare_figure(source, target, faces, t, ts, result, top=100):
 
     result: the dict from :func:`sweep` over ts (t must be one of ts).
     """
-    plt = _pyplot()
+    plt = pyplot()
     ts = np.asarray(ts)
     i = int(np.argmin(np.abs(ts - t)))
     methods = list(result)
@@ -243,7 +174,7 @@ def compare_figure(source, target, faces, t, ts, result, top=100):
     ax = fig.add_subplot(grid[1, 1:n - 1])
     for m in methods:
         curve = top_distortion(result[m]["K"], top)
-        ax.plot(ts, curve.mean(axis=1), color=COLORS.get(m), label=LABELS[m])
+        ax.plot(ts, curve.mean(axis=1), color=COLORS.get(m), label=METHOD_LABELS[m])
         ax.plot(ts, curve[:, 0], "--", color=COLORS.get(m), linewidth=0.8)
     ax.set_xlabel("t")
     ax.set_ylabel("(K-1)/(K+1)")
@@ -263,7 +194,7 @@ def distortion_curves_figure(source, target, faces, ts, frames, K, sample,
     frames (k,n,d) and K (k,m) over ts (from :func:`sweep`); sample: face
     indices.
     """
-    plt = _pyplot()
+    plt = pyplot()
     ts = np.asarray(ts)
     sample = np.asarray(sample)
     colors = plt.get_cmap("tab20")(np.arange(len(sample)) % 20)
@@ -291,25 +222,6 @@ def distortion_curves_figure(source, target, faces, ts, frames, K, sample,
     ax.set_ylabel("K of the face")
     ax.set_title(f"conformal distortion of {len(sample)} faces vs t "
                  f"(bounded by the value at t = 1)", fontsize=9)
-    return fig
-
-
-def convergence_figure(data):
-    """Fig. 6 left: E2 and Einf vs vertex count, one line per (map, t)."""
-    plt = _pyplot()
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4))
-    styles = ["-", "--", ":", "-."]
-    for ax, key in zip(axes, ("E2", "Einf")):
-        for i, name in enumerate(data["maps"]):
-            for k, t in enumerate(data["ts"]):
-                ax.loglog(data["vertices"], data[key][i, k],
-                          styles[k % len(styles)], marker="o", markersize=3,
-                          color=f"C{i}", label=f"{name}, t={t:g}")
-        ax.set_xlabel("vertices")
-        ax.set_title(key)
-        ax.grid(True, which="both", alpha=0.3)
-    axes[1].legend(fontsize=7, ncol=len(data["maps"]))
-    fig.tight_layout()
     return fig
 
 

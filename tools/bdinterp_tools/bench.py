@@ -1,9 +1,9 @@
-"""Benchmark of bounded-distortion in-betweens against the floor (``python3 -m bdinterp.bench``).
+"""Benchmark of bounded-distortion in-betweens against the floor (``PYTHONPATH=tools python3 -m bdinterp_tools.bench``).
 
 The *floor* is one CHOLMOD numeric factorisation + one solve of the interior cotan Laplacian of the
 mesh (symbolic analysis reused): the cost of a single Newton step. For each mesh (a jittered Delaunay
-disk, scipy.spatial.Delaunay via bdinterp.meshes.disk; target: the harmonic map "phi1" of
-bdinterp.meshes, turned by 170 degrees) the table gives, as medians of repeated runs:
+disk, scipy.spatial.Delaunay via bdinterp_tools.meshes.disk; target: the harmonic map "phi1" of
+bdinterp_tools.meshes, turned by 170 degrees) the table gives, as medians of repeated runs:
 
 - linear: a linear vertex blend; poisson: ARAP (Alexa et al.) = one prefactored Poisson solve;
 - floor; cold (new t, nothing cached but the symbolic analysis: ``forget()`` first);
@@ -16,6 +16,7 @@ Every BD frame is checked: max |2 pi - angle sum| <= 1e-10, else the run fails.
 """
 import argparse
 import json
+import os
 import resource
 import statistics
 import subprocess
@@ -24,16 +25,17 @@ import time
 
 import numpy as np
 
-from . import _core
-from .distortion import conformal_distortion
-from .interpolate import Interpolator
+from bdinterp import _core
+from bdinterp import conformal_distortion
+from bdinterp import Interpolator
+
 from .meshes import MAP_DOMAIN, apply_map, disk
 
 TOLERANCE = 1e-10
 
 
 def make_case(n, seed=3):
-    """(V, target, F) for a disk of ~n vertices: the harmonic map "phi1" of bdinterp.meshes (no
+    """(V, target, F) for a disk of ~n vertices: the harmonic map "phi1" of bdinterp_tools.meshes (no
     folds, K up to ~2), then turned rigidly by 170 degrees."""
     center, radius = MAP_DOMAIN
     V, F = disk(n, seed=seed, center=center, radius=radius)
@@ -68,14 +70,19 @@ def peak_memory(n):
     minus the RSS of a fresh interpreter that only imports bdinterp and builds the mesh."""
     code = (
         "import resource, sys, numpy as np\n"
-        "from bdinterp.bench import make_case\n"
+        "from bdinterp_tools.bench import make_case\n"
         "from bdinterp import _core\n"
         "V, T, F = make_case(%d)\n"
         "base = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss\n"
         "I = _core.Interpolator([V, T], F)\n"
         "for k in range(6): I.at(0.4 + 0.01 * k)\n"
         "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss, base)\n" % n)
-    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    # The child imports this package and bdinterp from where this process found them.
+    here = [os.path.dirname(os.path.dirname(os.path.abspath(m.__file__)))
+            for m in (_core, sys.modules[__name__])]
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(here + [os.environ.get("PYTHONPATH", "")]))
+    res = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True,
+                         env=env)
     peak, base = (int(x) for x in res.stdout.split())
     return 1024.0 * peak, 1024.0 * base
 
@@ -198,7 +205,7 @@ def format_table(rows):
 
 
 def main(argv=None):
-    ap = argparse.ArgumentParser(prog="python3 -m bdinterp.bench", description=__doc__.split("\n")[0])
+    ap = argparse.ArgumentParser(prog="python3 -m bdinterp_tools.bench", description=__doc__.split("\n")[0])
     ap.add_argument("--sizes", default="5000,50000,500000",
                     help="approximate vertex counts (default 5000,50000,500000)")
     ap.add_argument("--big", default="", help="sizes that only get floor, warm frame and memory "
@@ -225,7 +232,6 @@ def main(argv=None):
 
 
 def _cpu_count():
-    import os
     return os.cpu_count()
 
 

@@ -1,0 +1,60 @@
+// FrameStats as a typed, read-only object with a dict view (stats["residual"], stats.as_dict()).
+#include <string>
+#include <vector>
+
+#include "bdinterp/interpolator.h"
+#include "bindings.h"
+
+namespace bdinterp::bindings {
+namespace {
+
+// Binds one field read-only and records its name, so the dict view lists exactly the attributes.
+template <typename T>
+void field(py::class_<FrameStats>& cls, std::vector<std::string>& names, const char* name,
+           T FrameStats::*member, const char* doc) {
+  cls.def_readonly(name, member, doc);
+  names.emplace_back(name);
+}
+
+}  // namespace
+
+void bind_stats(py::module_& m) {
+  py::class_<FrameStats> cls(m, "FrameStats",
+                             "Statistics of the last at()/blend(), or of all frames of frames().");
+  auto names = std::make_shared<std::vector<std::string>>();
+  field(cls, *names, "iterations", &FrameStats::iterations, "Newton steps (the most over pieces)");
+  field(cls, *names, "residual", &FrameStats::residual,
+        "max |2 pi - angle sum| at interior vertices (radians)");
+  field(cls, *names, "broken_triangles", &FrameStats::broken_triangles,
+        "faces violating the triangle inequality at the solution");
+  field(cls, *names, "max_broken_triangles", &FrameStats::max_broken_triangles,
+        "the most broken triangles seen during Newton");
+  field(cls, *names, "flatness", &FrameStats::flatness, "layout residual (see Layout::embed)");
+  field(cls, *names, "pieces", &FrameStats::pieces, "connected pieces solved");
+  field(cls, *names, "factorizations", &FrameStats::factorizations,
+        "numeric Cholesky factorisations (summed over pieces)");
+  field(cls, *names, "chord_steps", &FrameStats::chord_steps,
+        "Newton steps that reused an earlier factorisation (summed)");
+  field(cls, *names, "seconds", &FrameStats::seconds, "wall-clock seconds in C++");
+  cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
+      .def("as_dict",
+           [names](py::object self) {
+             py::dict d;
+             for (const auto& n : *names) d[n.c_str()] = self.attr(n.c_str());
+             return d;
+           })
+      .def("__getitem__",
+           [names](py::object self, const std::string& key) {
+             for (const auto& n : *names)
+               if (n == key) return self.attr(key.c_str());
+             throw py::key_error("FrameStats has no field '" + key + "'");
+           })
+      .def("__repr__", [names](py::object self) {
+        std::string s = "FrameStats(";
+        for (const auto& n : *names)
+          s += (s.back() == '(' ? "" : ", ") + n + "=" + py::str(self.attr(n.c_str())).cast<std::string>();
+        return s + ")";
+      });
+}
+
+}  // namespace bdinterp::bindings

@@ -1,0 +1,21 @@
+"""Names and defaults shared by the library, the CLI and the Blender add-on (one place for each)."""
+
+# Interpolation methods, in the order the CLI and the figures list them: the bounded-distortion
+# in-betweens of the paper, ARAP (Alexa et al. 2000, rotations unwrapped) and the vertex blend.
+METHODS = ("bdi", "arap", "linear")
+METHOD_LABELS = {"bdi": "BDI (bounded distortion)", "arap": "ARAP (Alexa 2000)",
+                 "linear": "linear blend"}
+
+# Relative out-of-plane tolerance for 3D input, as a fraction of the shape's largest extent: Blender
+# stores float32 coordinates, whose rounding moves a rotated planar mesh off its plane by ~1e-7 of
+# its size.
+PLANAR_TOLERANCE = 1e-5
+
+# Interpolator defaults: the angle-sum tolerance max |2 pi - angle sum| (radians), the Newton
+# iteration cap, and the thread count (0 = one per core).
+TOLERANCE = 1e-10
+MAX_ITERATIONS = 50
+THREADS = 0
+
+# The largest value the core's C int options accept (threads, max_iterations).
+INT_MAX = 2 ** 31 - 1
