@@ -191,6 +191,7 @@ def cmd_interpolate(args):
 
 def _sweep(args, X0, X1, F, anchor, ts, methods):
     from bdinterp import figures
+    figures.pyplot()  # a missing matplotlib is reported before the frames are computed
     bar = _progress(args, len(ts) * len(methods), args.command)
     return figures.sweep(X0, X1, F, ts, methods, anchor=anchor, progress=bar)
 

@@ -240,3 +240,72 @@ def test_json_roundtrip_and_errors(tmp_path):
     p.write_text('{"faces": ')
     with pytest.raises(ValueError, match="p.json:1: invalid JSON"):
         io.read_json(p)
+
+
+# ------------------------------------------- n-gons, bytes and file names
+
+def _star_obj(path, k=7, inner=0.35, z=None, comment=b""):
+    """A concave star polygon with k points as one OBJ face (2k corners)."""
+    a = np.pi * np.arange(2 * k) / k
+    r = np.where(np.arange(2 * k) % 2 == 0, 1.0, inner)
+    P = np.c_[r * np.cos(a), r * np.sin(a)]
+    lines = [comment] + [f"v {x!r} {y!r} {0.0 if z is None else z}".encode() for x, y in P]
+    lines.append(("f " + " ".join(str(i + 1) for i in range(2 * k))).encode())
+    path.write_bytes(b"\n".join(lines) + b"\n")
+    return P
+
+
+@pytest.mark.parametrize("k, inner", [(5, 0.4), (7, 0.2), (12, 0.8)])
+def test_concave_ngons_are_triangulated_without_flips(tmp_path, k, inner):
+    # A fan from corner 0 of a star covers parts outside it with flipped triangles; ear clipping
+    # gives 2k - 2 triangles, all counter-clockwise, covering exactly the star's area.
+    P = _star_obj(tmp_path / "star.obj", k, inner)
+    V, F = io.read_obj(tmp_path / "star.obj")
+    areas = meshes.signed_areas(V, F)
+    assert len(F) == 2 * k - 2 and np.all(areas > 0)
+    x, y = P[:, 0], P[:, 1]
+    polygon_area = 0.5 * np.sum(x * np.roll(y, -1) - np.roll(x, -1) * y)
+    np.testing.assert_allclose(areas.sum(), polygon_area, rtol=1e-12)
+    fan = np.array([[0, j, j + 1] for j in range(1, 2 * k - 1)])
+    assert np.any(meshes.signed_areas(V, fan) <= 0)  # what the fan did
+
+
+def test_concave_ngon_in_a_tilted_plane_keeps_its_winding(tmp_path):
+    p = tmp_path / "star.obj"
+    _star_obj(p, 6, 0.3, z=2.0)
+    V, F = io.read_obj(p)
+    assert V.shape[1] == 3  # z = 2: planar 3D
+    assert np.all(meshes.signed_areas(V[:, :2], F) > 0)
+
+
+def test_obj_comments_may_hold_any_bytes(tmp_path):
+    p = tmp_path / "latin1.obj"
+    _star_obj(p, 5, 0.4, comment="# Gr\xfc\xdfe aus M\xfcnchen \xa9".encode("latin-1"))
+    V, F = io.read_obj(p)
+    assert len(V) == 10 and len(F) == 8
+    bad = tmp_path / "bad.obj"
+    bad.write_bytes(b"v 0 0\nv 1 0\nv 0 1\xe9\nf 1 2 3\n")
+    with pytest.raises(ValueError, match="bad.obj:3: bytes that are not UTF-8"):
+        io.read_obj(bad)
+
+
+def test_every_cli_error_names_the_file(pair, tmp_path, capsys):
+    src, tgt, V, Y, F = pair
+    collapsed = np.array(V)
+    collapsed[F[3, 1]] = collapsed[F[3, 0]]
+    flat = tmp_path / "collapsed.obj"
+    io.write_obj(flat, collapsed, F)
+    code, _, err = run(["interpolate", flat, tgt, "-o", tmp_path / "o"], capsys)
+    assert_one_line_error(code, err, "collapsed.obj", "target.obj", "zero area")
+    latin = tmp_path / "latin.json"
+    latin.write_bytes('{"faces": [], "shapes": {"s\xe9": []}}'.encode("latin-1"))
+    code, _, err = run(["interpolate", latin, "-o", tmp_path / "o"], capsys)
+    assert_one_line_error(code, err, "latin.json", "not UTF-8")
+
+
+def test_figures_without_matplotlib_say_so(pair, tmp_path, capsys, monkeypatch):
+    import sys as _sys
+    src, tgt, *_ = pair
+    monkeypatch.setitem(_sys.modules, "matplotlib", None)  # import matplotlib now fails
+    code, _, err = run(["compare", src, tgt, "--samples", 2, "-o", tmp_path / "c.png"], capsys)
+    assert_one_line_error(code, err, "needs matplotlib", "python3-matplotlib")
