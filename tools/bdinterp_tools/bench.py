@@ -145,15 +145,16 @@ def run_size(n, repeats, big=False):
     ts = np.linspace(0.0, 1.0, 101)
     out = np.empty((ts.size * nv, 2))
     for threads, key in ((1, "bake1"), (0, "bake")):
-        core.threads = threads
+        options = _core.InterpolatorOptions()
+        options.threads = threads
+        baker = _core.Interpolator([V, T], F, _core.Anchor.centroid(), options)
 
         def bake():
-            core.forget()
-            core.frames_into(ts.tolist(), out)
-            _check(core.stats)
+            baker.forget()
+            baker.frames_into(ts.tolist(), out)
+            _check(baker.stats)
 
         row[key] = _median_time(bake, repeats) / ts.size
-    core.threads = 0
 
     # Python layer: the public wrapper's at() against the C++ time of the same frame.
     py = Interpolator([V, T], F)
