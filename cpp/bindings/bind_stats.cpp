@@ -9,9 +9,10 @@ namespace bdinterp::bindings {
 namespace {
 
 // Binds one field read-only and records its name, so the dict view lists exactly the attributes.
-template <typename T>
+// C: FrameStats or a base of it (the fields it shares with FlattenReport).
+template <typename T, typename C>
 void field(py::class_<FrameStats>& cls, std::vector<std::string>& names, const char* name,
-           T FrameStats::*member, const char* doc) {
+           T C::*member, const char* doc) {
   cls.def_readonly(name, member, doc);
   names.emplace_back(name);
 }

@@ -6,7 +6,7 @@ import numpy as np
 
 from . import _core
 from . import _validate
-from .constants import MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
+from .constants import MAX_ITERATIONS, MAX_THREADS, METHODS, THREADS, TOLERANCE
 
 
 @dataclass
@@ -64,7 +64,7 @@ def _options(base, tol, max_iterations, threads):
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
-    o.threads = _validate.integer(threads, "threads")
+    o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
     return o
 
 
