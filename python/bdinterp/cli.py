@@ -8,7 +8,6 @@ experiment of Fig. 6 is a repository tool: tools/bdinterp_tools/convergence.py.
 """
 
 import argparse
-import os
 import sys
 
 import numpy as np

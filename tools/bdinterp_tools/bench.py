@@ -17,7 +17,6 @@ Every BD frame is checked: max |2 pi - angle sum| <= 1e-10, else the run fails.
 import argparse
 import json
 import os
-import resource
 import statistics
 import subprocess
 import sys
