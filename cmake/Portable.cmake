@@ -1,22 +1,15 @@
 # The portable build of the compiled Python module (BDINTERP_PORTABLE=ON; scripts/build-portable.sh
-# runs it in Debian 11 for glibc 2.31). The module must load next to Blender's own numpy/OpenBLAS on a
-# machine without SuiteSparse: CHOLMOD, METIS, OpenBLAS (its LAPACK), the Fortran runtime, libstdc++
-# and libgcc are linked in statically and their symbols hidden (--exclude-libs), so the module's
-# NEEDED list is the manylinux set and nothing it carries can interpose on another library.
-set(CMAKE_DISABLE_FIND_PACKAGE_OpenMP ON)  # no libgomp to ship; frames still run on threads
-set(CHOLMOD_STATIC ON)                     # cmake/FindCHOLMOD.cmake: the .a archives and their deps
+# runs it in Debian 11 for glibc 2.31). libstdc++ and libgcc are linked in statically with their
+# symbols hidden (--exclude-libs), so the module needs no newer C++ runtime than the host's.
+# CHOLMOD and what it loads (AMD, CAMD, COLAMD, CCOLAMD, SuiteSparse_config, METIS, BLAS/LAPACK,
+# libgfortran, libquadmath, libgomp) are linked shared: Debian's static SuiteSparse archives are not
+# position-independent (measured: 6897 absolute relocations in libcholmod.a; ld refuses them in a
+# shared object), so scripts/bundle_libs.py copies the shared ones next to the module under
+# private names (RUNPATH $ORIGIN), as auditwheel does.
+set(CMAKE_DISABLE_FIND_PACKAGE_OpenMP ON)  # bdinterp's own loops: no OpenMP, frames still threaded
 
-# Links `target` (a MODULE library) self-contained.
+# Links `target` (a MODULE library) with the static C++ runtime.
 function(bdinterp_portable_link target)
-  foreach(rt libgfortran.a libquadmath.a)
-    execute_process(COMMAND ${CMAKE_CXX_COMPILER} -print-file-name=${rt}
-                    OUTPUT_VARIABLE path OUTPUT_STRIP_TRAILING_WHITESPACE)
-    if(NOT IS_ABSOLUTE "${path}")
-      message(FATAL_ERROR "BDINTERP_PORTABLE: ${rt} not found (Debian: gfortran)")
-    endif()
-    list(APPEND runtime ${path})
-  endforeach()
-  target_link_libraries(${target} PRIVATE ${runtime} m)
   target_link_options(${target} PRIVATE -static-libstdc++ -static-libgcc
                       -Wl,--exclude-libs,ALL -Wl,--as-needed -s)
 endfunction()
@@ -34,9 +27,7 @@ function(bdinterp_headers_only_module name)
   add_library(${name} MODULE ${ARGN})
   target_include_directories(${name} SYSTEM PRIVATE ${BDINTERP_PYTHON_INCLUDE_DIR}
                              ${BDINTERP_PYBIND11_INCLUDE_DIR})
-  # What pybind11_add_module does: hidden visibility, no symbol of Python itself linked (the
-  # interpreter provides them).
+  # What pybind11_add_module does: hidden visibility, Python's own symbols left to the interpreter.
   set_target_properties(${name} PROPERTIES PREFIX "" SUFFIX ${BDINTERP_PYTHON_EXT_SUFFIX}
                         CXX_VISIBILITY_PRESET hidden VISIBILITY_INLINES_HIDDEN ON)
-  target_link_options(${name} PRIVATE -Wl,--unresolved-symbols=ignore-in-object-files)
 endfunction()

@@ -35,6 +35,7 @@ mkdir -p "$DEPS/root/usr/include/py311/x86_64-linux-gnu"  # Debian's pyconfig.h 
 cp -r /usr/include/python3.11 "$DEPS/root/usr/include/py311/"
 cp -r /usr/include/x86_64-linux-gnu/python3.11 "$DEPS/root/usr/include/py311/x86_64-linux-gnu/"
 
+rm -rf "$OUT"/py3*  # relinked and re-bundled every time (bundling rewrites the module)
 # One build tree, configured once per Python: the library is compiled once, the bindings twice.
 mkdir -p "$BUILDER/src" "$BUILDER/deps" "$BUILDER/out"
 build_one() {  # $1 = 311 | 313, $2 = Python include dirs (;-separated, chroot paths)
@@ -42,8 +43,8 @@ build_one() {  # $1 = 311 | 313, $2 = Python include dirs (;-separated, chroot p
 cmake -S /src -B /out/cmake -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PORTABLE=ON -DBDINTERP_TESTS=OFF \
   -DEigen3_DIR=/deps/usr/share/eigen3/cmake -DBDINTERP_PYBIND11_INCLUDE_DIR=/deps/usr/include \
   -DBDINTERP_PYTHON_INCLUDE_DIR="$2" -DBDINTERP_PYTHON_EXT_SUFFIX=.cpython-$1-x86_64-linux-gnu.so \
-  -DBDINTERP_PYTHON_OUTPUT_DIR=/out/py$1 >/out/cmake-py$1.log
-cmake --build /out/cmake -j ${JOBS:-2} --target _core >>/out/cmake-py$1.log
+  -DBDINTERP_PYTHON_OUTPUT_DIR=/out/py$1 >/out/cmake-py$1.log 2>&1
+cmake --build /out/cmake -j ${JOBS:-2} --target _core >>/out/cmake-py$1.log 2>&1
 EOS
 }
 script="set -e
@@ -53,15 +54,23 @@ unshare -m sh -c "mount --bind '$ROOT' '$BUILDER/src' && mount -o bind,ro '$DEPS
   mount --bind '$OUT' '$BUILDER/out' && chroot '$BUILDER' sh -c '$script'" \
   || { tail -30 "$OUT"/cmake-py3*.log >&2; exit 1; }
 
+# Everything outside the manylinux set, bundled next to each module under private names.
+for so in "$OUT"/py3*/_core*.so; do
+  unshare -m sh -c "mount --bind '$OUT' '$BUILDER/out' && chroot '$BUILDER' ldd /out/${so#$OUT/}" \
+    >"$so.ldd"
+  /usr/bin/python3 "$ROOT/scripts/bundle_libs.py" "$so" "$so.ldd" "$BUILDER"
+  rm "$so.ldd"
+done
+
 # The licences of what the modules carry (Debian's copyright files name every upstream licence).
-mkdir -p "$OUT/licenses"
+rm -rf "$OUT/licenses"; mkdir -p "$OUT/licenses"
 cp "$ROOT/LICENSE" "$OUT/licenses/bdinterp-LICENSE"
 for pkg in libcholmod3 libamd2 libcamd2 libcolamd2 libccolamd2 libsuitesparseconfig5 libmetis5 \
-           libopenblas0-pthread libgfortran5 libquadmath0 libstdc++6 libgcc-s1; do
+           libopenblas0-pthread libgfortran5 libquadmath0 libgomp1 libstdc++6 libgcc-s1; do
   cp "$BUILDER/usr/share/doc/$pkg/copyright" "$OUT/licenses/$pkg.copyright"
 done
 for pkg in libeigen3-dev pybind11-dev; do
   cp "$DEPS/root/usr/share/doc/$pkg/copyright" "$OUT/licenses/$pkg.copyright"
 done
-/usr/bin/python3 "$ROOT/scripts/audit_so.py" "$OUT"/py3*/_core*.so
+/usr/bin/python3 "$ROOT/scripts/audit_so.py" "$OUT"/py3*/*.so*
 echo "portable modules in $OUT: $(( $(date +%s) - start )) s"

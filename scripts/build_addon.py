@@ -91,7 +91,8 @@ def vendor(staged, so_path):
     """The bdinterp package (Python files + one compiled module) as staged/_vendor/bdinterp."""
     pkg = os.path.join(staged, "_vendor", "bdinterp")
     shutil.copytree(os.path.join(ROOT, "python", "bdinterp"), pkg, ignore=SKIP)
-    shutil.copy(so_path, pkg)
+    for lib in [so_path] + make_wheel.bundled_libs(so_path):
+        shutil.copy(lib, pkg)
     with open(os.path.join(staged, "_vendor", "__init__.py"), "w", encoding="utf-8") as f:
         f.write('"""The add-on\'s private copy of bdinterp (imported as a subpackage)."""\n')
 

@@ -33,6 +33,13 @@ def wheel_tag(so_name):
     return "cp%s-cp%s-%s" % (m.group(1), m.group(1), PLATFORM_TAG[m.group(2)])
 
 
+def bundled_libs(so_path):
+    """The shared libraries bundled next to the module (found through its RUNPATH $ORIGIN)."""
+    here = os.path.dirname(so_path)
+    return sorted(os.path.join(here, n) for n in os.listdir(here)
+                  if n.startswith("lib") and ".so" in n)
+
+
 def metadata(ver):
     return ("Metadata-Version: 2.1\nName: bdinterp\nVersion: %s\n"
             "Summary: Planar shape interpolation with bounded distortion "
@@ -47,8 +54,9 @@ def entries(so_path, tag, ver, licenses):
         if name.endswith(".py"):
             with open(os.path.join(PACKAGE, name), "rb") as f:
                 yield "bdinterp/" + name, f.read()
-    with open(so_path, "rb") as f:
-        yield "bdinterp/" + os.path.basename(so_path), f.read()
+    for lib in [so_path] + bundled_libs(so_path):
+        with open(lib, "rb") as f:
+            yield "bdinterp/" + os.path.basename(lib), f.read()
     info = "bdinterp-%s.dist-info/" % ver
     yield info + "METADATA", metadata(ver).encode()
     yield info + "WHEEL", ("Wheel-Version: 1.0\nGenerator: bdinterp make_wheel.py\n"
@@ -71,7 +79,7 @@ def write_wheel(so_path, out, licenses=None):
         for name, data in entries(so_path, tag, ver, licenses):
             zi = zipfile.ZipInfo(name, FIXED_TIME)
             zi.compress_type = zipfile.ZIP_DEFLATED
-            zi.external_attr = (0o755 if name.endswith(".so") else 0o644) << 16
+            zi.external_attr = (0o755 if ".so" in name else 0o644) << 16
             zf.writestr(zi, data)
             digest = base64.urlsafe_b64encode(hashlib.sha256(data).digest()).rstrip(b"=")
             record.append("%s,sha256=%s,%d" % (name, digest.decode(), len(data)))
