@@ -62,16 +62,19 @@ def fmt(version):
 
 
 def expand(files, tmp):
-    """(label, path) of every .so in `files`, unpacking zips and wheels into tmp."""
+    """[(label, path)] of every .so in `files`, unpacking zips and wheels into tmp (all of an
+    archive's libraries first: a module's bundled neighbours must be there when it is checked)."""
+    found = []
     for f in files:
-        if f.endswith((".zip", ".whl")):
-            with zipfile.ZipFile(f) as zf:
-                for n in zf.namelist():
-                    if n.endswith(".so") or ".so." in os.path.basename(n):
-                        yield "%s:%s" % (os.path.basename(f), n), zf.extract(n, os.path.join(
-                            tmp, os.path.basename(f)))
-        else:
-            yield f, f
+        if not f.endswith((".zip", ".whl")):
+            found.append((f, f))
+            continue
+        with zipfile.ZipFile(f) as zf:
+            for n in zf.namelist():
+                if n.endswith(".so") or ".so." in os.path.basename(n):
+                    found.append(("%s:%s" % (os.path.basename(f), n),
+                                  zf.extract(n, os.path.join(tmp, os.path.basename(f)))))
+    return found
 
 
 def main():

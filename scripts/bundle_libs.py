@@ -55,10 +55,12 @@ def main():
         shutil.copyfile(resolve(root, found[name]), dst)
         os.chmod(dst, 0o755)
         patchelf("--set-soname", new, dst)
+    # One change per patchelf call: 0.14 (Debian 12) mixes up several in one call.
     for path in [module] + [os.path.join(here, n) for n in bundled.values()]:
-        replace = [a for old in inspect(path)["needed"] if old in bundled
-                   for a in ("--replace-needed", old, bundled[old])]
-        patchelf(*replace, "--set-rpath", "$ORIGIN", path)
+        patchelf("--set-rpath", "$ORIGIN", path)
+        for old in inspect(path)["needed"]:
+            if old in bundled:
+                patchelf("--replace-needed", old, bundled[old], path)
     print("bundle_libs: %s + %s" % (os.path.basename(module), ", ".join(sorted(bundled.values()))))
 
 

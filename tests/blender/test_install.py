@@ -88,7 +88,7 @@ def test_wrong_python_gives_a_message_not_a_traceback(tmp_path):
                 name = name.split("_core.cpython-")[0] + "_core.cpython-399-x86_64-linux-gnu.so"
             if name.endswith("build_info.json"):
                 info = json.loads(data)
-                info["python"] = "3.99"
+                info["python"], info["pythons"] = "3.99", ["3.99"]
                 data = json.dumps(info).encode()
             dst.writestr(name, data)
     user = os.path.join(tmp, "user")
