@@ -5,8 +5,15 @@ BLENDER ?= blender
 BUILD   ?= build
 JOBS    ?= 2
 PIP_INSTALL = $(PYTHON) -m pip install --no-build-isolation --no-deps --break-system-packages --quiet
+VERSION := $(shell cat VERSION)
+# The shipped modules and the chroots they are built and tested in (made afresh in a fresh clone).
+PORTABLE ?= $(BUILD)/portable
+export BDI_CHROOTS ?= $(CURDIR)/$(PORTABLE)/chroots
+EXTENSION_ZIP = dist/bdinterp_blender-$(VERSION)-extension.zip
+LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
-.PHONY: setup build install addon demo test test-cpp test-python test-blender gallery bench clean
+.PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
+        test-blender-43 test-wheel gallery bench clean
 
 setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
@@ -19,10 +26,13 @@ build: setup      ## C++ library, tests and the in-tree Python module
 install: setup    ## the Python package bdinterp (with its compiled module) for /usr/bin/python3
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PIP_INSTALL) .
 
-addon: install    ## dist/ zips for Blender (legacy add-on and 4.2+ extension)
-	$(PYTHON) scripts/build_addon.py
+portable: setup   ## the shipped _core modules (CPython 3.11, 3.13; linux-x64) built in Debian 11 (root)
+	bash scripts/build-portable.sh $(PORTABLE)
 
-demo: addon       ## the main job: bake in-betweens of an example into out/example.blend + pictures
+addon: portable   ## dist/: legacy zip, extension zip, wheels; prints the .so audit table
+	$(PYTHON) scripts/build_addon.py --portable $(PORTABLE)
+
+demo: addon install ## the main job: bake in-betweens of an example into out/example.blend + pictures
 	$(BLENDER) --background --factory-startup --python-exit-code 1 --python scripts/bake_example.py -- --out out
 
 test-cpp: build
@@ -36,11 +46,17 @@ test-cpp: build
 test-python: install
 	cd tests && $(PYTHON) -m pytest -q python
 
-test-blender: addon
-	$(BLENDER) --background --factory-startup --python-exit-code 1 \
-	    --python tests/blender/run_blender_tests.py -- -q
+test-blender: addon  ## Blender 3.4 (Debian 12) on the legacy zip, host SuiteSparse/METIS hidden
+	bash scripts/without-host-libs.sh $(BLENDER) --background --factory-startup --python-exit-code 1 \
+	    --python tests/blender/run_blender_tests.py -- -q --zip $(LEGACY_ZIP)
 
-test: test-cpp test-python test-blender   ## everything CI runs
+test-blender-43: addon  ## Blender 4.3 / Python 3.13 in a Debian 13 chroot on the extension zip
+	bash scripts/test-blender-chroot.sh $(EXTENSION_ZIP) -q
+
+test-wheel: addon  ## `pip wheel .` and the portable wheel install into a Python without SuiteSparse
+	bash scripts/test-wheel.sh $(BUILD)/wheel-test
+
+test: test-cpp test-python test-blender test-blender-43 test-wheel  ## everything CI runs
 
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py

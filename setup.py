@@ -1,16 +1,24 @@
-"""Builds the compiled module bdinterp._core with CMake (offline: pip install --no-build-isolation .).
+"""Builds the compiled module bdinterp._core (offline: pip install --no-build-isolation .).
 
 scikit-build-core is not packaged for Debian 12, so a small build_ext drives CMake directly.
+BDINTERP_CORE chooses the module the wheel carries:
+  portable (the default when build/portable has one for this Python, i.e. after `make portable`):
+      the self-contained module of scripts/build-portable.sh (Debian 11, static CHOLMOD/OpenBLAS,
+      bundled METIS) - the same file the Blender zips ship; refused if older than the sources;
+  source: CMake against this machine's libraries (development).
 """
 import os
+import shutil
 import subprocess
 import sys
+import sysconfig
 from pathlib import Path
 
 from setuptools import Extension, setup
 from setuptools.command.build_ext import build_ext
 
 ROOT = Path(__file__).resolve().parent
+PORTABLE = ROOT / "build" / "portable"
 
 
 class CMakeExtension(Extension):
@@ -18,9 +26,30 @@ class CMakeExtension(Extension):
         super().__init__(name, sources=[])
 
 
+def portable_module():
+    """The portable build's module for this Python, or None; exits if it is stale."""
+    suffix = sysconfig.get_config_var("EXT_SUFFIX")
+    so = PORTABLE / ("py%d%d" % sys.version_info[:2]) / ("_core" + suffix)
+    if not so.exists():
+        return None
+    sources = [p for d in ("cpp", "cmake") for p in (ROOT / d).rglob("*") if p.is_file()]
+    newest = max(p.stat().st_mtime for p in sources + [ROOT / "CMakeLists.txt"])
+    if so.stat().st_mtime < newest:
+        sys.exit("setup.py: %s is older than the C++ sources: run `make portable` "
+                 "(or BDINTERP_CORE=source for a build against this machine's libraries)" % so)
+    return so
+
+
 class CMakeBuild(build_ext):
     def build_extension(self, ext):
         out_dir = Path(self.get_ext_fullpath(ext.name)).resolve().parent
+        choice = os.environ.get("BDINTERP_CORE", "portable")
+        so = portable_module() if choice == "portable" else None
+        if so is not None:
+            out_dir.mkdir(parents=True, exist_ok=True)
+            for lib in [so] + sorted(so.parent.glob("lib*.so*")):  # + bundled METIS ($ORIGIN)
+                shutil.copy(lib, out_dir)
+            return
         build_dir = Path(self.build_temp).resolve() / "cmake"
         build_dir.mkdir(parents=True, exist_ok=True)
         subprocess.run([

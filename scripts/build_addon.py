@@ -1,19 +1,23 @@
 #!/usr/bin/env python3
-"""Build the Blender add-on zips (installable with Blender's own "Install from disk").
+"""Build the Blender add-on zips (installable with Blender's own installers).
 
-    /usr/bin/python3 scripts/build_addon.py [--core DIR] [--out dist]
+    /usr/bin/python3 scripts/build_addon.py [--portable build/portable] [--core DIR] [--out dist]
 
-Writes, from the one source tree addon/bdinterp_blender/:
-  dist/bdinterp_blender-<ver>-legacy-py311.zip     legacy add-on (bl_info), Blender 3.4-4.1
-  dist/bdinterp_blender-<ver>-extension-py311.zip  extension (blender_manifest.toml), 4.2+
-Both vendor the compiled bdinterp package (default: the one this interpreter imports, i.e.
-after `pip install .`) as bdinterp_blender/_vendor/bdinterp; 'py311' (and build_info.json in
-the zip) name the Python ABI of its compiled module.  Run with the Python the module was built
-for (Debian's /usr/bin/python3 = 3.11 = Debian's Blender).
+From the one source tree addon/bdinterp_blender/ and the portable modules of
+scripts/build-portable.sh (PORTABLE/py311/_core*.so, PORTABLE/py313/..., PORTABLE/licenses/):
+  dist/bdinterp_blender-<ver>-legacy-py311.zip  legacy add-on (bl_info), Blender 3.4-4.1: the
+      package private to the add-on as bdinterp_blender/_vendor/bdinterp (Python 3.11 module)
+  dist/bdinterp_blender-<ver>-extension.zip     extension (blender_manifest.toml), Blender 4.2+:
+      ./wheels/ holds one bdinterp wheel per Python (3.11 for 4.2-5.0, 3.13 for 5.1+ and
+      Debian 13's 4.3), listed in the manifest; Blender installs the one its Python takes
+  dist/bdinterp-<ver>-cpXY-cpXY-manylinux_2_31_x86_64.whl   those wheels, for pip
+Every shipped .so is audited (scripts/audit_so.py prints the table; a violation fails the build).
+--core DIR (development only): a legacy zip around DIR's compiled module, e.g. `make build`'s
+python/bdinterp, for the Python it was built for; no extension, no audit.
 """
 
 import argparse
-import ast
+import glob
 import json
 import os
 import re
@@ -25,82 +29,72 @@ import zipfile
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 SRC = os.path.join(ROOT, "addon", "bdinterp_blender")
+sys.path.insert(0, os.path.join(ROOT, "scripts"))
+import make_wheel  # noqa: E402
+import version as version_source  # noqa: E402
+
 MANIFEST = "blender_manifest.toml"
 # Build products and local state that must never go into a zip.
-SKIP_DIRS = {"__pycache__", "_vendor"}
-SKIP_FILES = {"build_info.json"}
+SKIP = shutil.ignore_patterns("__pycache__", "*.pyc", "_vendor", "build_info.json", "*.so")
 FIXED_TIME = (2024, 1, 1, 0, 0, 0)  # reproducible zips
-PLATFORMS = {"x86_64-linux-gnu": "linux-x64", "aarch64-linux-gnu": "linux-arm64"}
+LEGACY_PYTHON = "311"  # Blender 3.4 (Debian 12) to 4.1 embed Python 3.11
+PLATFORM = "linux-x64"
 
 
 def die(msg):
     sys.exit("build_addon: " + msg)
 
 
-def core_dir(explicit):
-    if explicit:
-        return os.path.abspath(explicit)
-    try:
-        import bdinterp
-    except ImportError as exc:
-        die("cannot import bdinterp (%s); build and install the core first:\n"
-            "  /usr/bin/python3 -m pip install --no-build-isolation .\n"
-            "or pass --core path/to/bdinterp" % exc)
-    return os.path.dirname(os.path.abspath(bdinterp.__file__))
-
-
-def compiled_module(pkg):
-    """(file name, EXT_SUFFIX) of the compiled _core module in the package."""
-    found = [n for n in os.listdir(pkg) if re.match(r"_core\..*\.(so|pyd)$", n)]
-    if len(found) != 1:
-        die("expected exactly one compiled _core module in %s, found %s" % (pkg, found or "none"))
-    return found[0], found[0][len("_core"):]
-
-
-def abi_of(ext_suffix):
-    """'.cpython-311-x86_64-linux-gnu.so' -> ('3.11', 'py311', 'x86_64-linux-gnu')."""
-    m = re.match(r"\.cpython-(\d)(\d+)-([^.]+)\.", ext_suffix)
+def python_of(so_path):
+    """'.../_core.cpython-313-x86_64-linux-gnu.so' -> '313'."""
+    m = re.search(r"_core\.cpython-(\d+)-x86_64-linux-gnu\.so$", so_path)
     if not m:
-        die("cannot read the Python ABI from %r" % ext_suffix)
-    major, minor, triplet = m.groups()
-    return "%s.%s" % (major, minor), "py%s%s" % (major, minor), triplet
+        die("cannot read the Python ABI of %s (only linux-x64 is built here)" % so_path)
+    return m.group(1)
+
+
+def dotted(tag):
+    return tag[0] + "." + tag[1:]
+
+
+def portable_modules(portable):
+    """{'311': path, '313': path} of the portable build; dies if 3.11 is missing."""
+    mods = {python_of(p): p for p in glob.glob(os.path.join(portable, "py3*", "_core*.so"))}
+    if LEGACY_PYTHON not in mods:
+        die("no portable module for Python 3.11 in %s: run scripts/build-portable.sh" % portable)
+    return mods
 
 
 def versions():
-    with open(os.path.join(SRC, "__init__.py"), encoding="utf-8") as f:
-        tree = ast.parse(f.read())
-    bl_info = next(ast.literal_eval(node.value) for node in tree.body if isinstance(node, ast.Assign)
-                   and getattr(node.targets[0], "id", "") == "bl_info")
-    with open(os.path.join(SRC, MANIFEST), encoding="utf-8") as f:
-        manifest = f.read()
-    legacy = ".".join(map(str, bl_info["version"]))
-    ext = re.search(r'^version\s*=\s*"([^"]+)"', manifest, re.M).group(1)
-    if legacy != ext:
-        die("bl_info version %s != %s version %s" % (legacy, MANIFEST, ext))
-    return legacy, manifest
+    """The version (file VERSION); dies if bl_info, the manifest or bdinterp differ."""
+    bad = version_source.mismatches()
+    if bad:
+        die("VERSION says %s but %s (scripts/version.py --set fixes)" % (
+            version_source.version(), ", ".join("%s says %s" % b for b in bad)))
+    return version_source.version()
 
 
-def check_links(so_path):
-    """Refuse a module that needs shared libraries a user's machine will not find."""
-    try:
-        out = subprocess.run(["ldd", so_path], capture_output=True, text=True).stdout
-    except OSError:
-        return
-    missing = [line.strip() for line in out.splitlines() if "not found" in line]
-    if missing:
-        die("%s links to libraries that are not found: %s" % (so_path, missing))
-
-
-def stage(tmp, pkg, so_name, info):
-    """Copy the add-on source plus vendored core into tmp/bdinterp_blender."""
+def stage_addon(tmp, info, licenses):
+    """Copy the add-on source into tmp/bdinterp_blender with build_info.json and licences."""
     dst = os.path.join(tmp, "bdinterp_blender")
-    shutil.copytree(SRC, dst, ignore=lambda d, names: [n for n in names if n in SKIP_DIRS
-                                                       or n in SKIP_FILES or n.endswith(".pyc")])
-    shutil.copytree(pkg, os.path.join(dst, "_vendor", "bdinterp"),
-                    ignore=shutil.ignore_patterns("__pycache__", "*.pyc"))
+    shutil.copytree(SRC, dst, ignore=SKIP)
     with open(os.path.join(dst, "build_info.json"), "w", encoding="utf-8") as f:
         json.dump(info, f, indent=1, sort_keys=True)
+    os.makedirs(os.path.join(dst, "licenses"))
+    shutil.copy(os.path.join(ROOT, "LICENSE"), os.path.join(dst, "LICENSE"))
+    for path in glob.glob(os.path.join(licenses or "", "*")) if licenses else []:
+        shutil.copy(path, os.path.join(dst, "licenses"))
     return dst
+
+
+def vendor(staged, so_path):
+    """The bdinterp package (Python files + one compiled module) as staged/_vendor/bdinterp."""
+    pkg = os.path.join(staged, "_vendor", "bdinterp")
+    shutil.copytree(os.path.join(ROOT, "python", "bdinterp"), pkg, ignore=SKIP)
+    for lib in [so_path] + make_wheel.bundled_libs(so_path):
+        shutil.copy(lib, pkg)
+    with open(os.path.join(staged, "_vendor", "__init__.py"), "w", encoding="utf-8") as f:
+        f.write('"""The add-on\'s private copy of bdinterp (imported as a subpackage)."""\n')
 
 
 def write_zip(path, staged, prefix, skip=(), replace=None):
@@ -124,36 +118,70 @@ def write_zip(path, staged, prefix, skip=(), replace=None):
                         zf.writestr(zi, f.read())
 
 
+def legacy_zip(out, version, so_path, licenses):
+    """Legacy: one top-level package folder; no manifest (4.2+ would treat it as an extension)."""
+    tag = python_of(so_path)
+    info = {"version": version, "platform": PLATFORM, "layout": "legacy",
+            "pythons": [dotted(tag)], "python": dotted(tag),
+            "ext_suffix": os.path.basename(so_path)[len("_core"):]}
+    path = os.path.join(out, "bdinterp_blender-%s-legacy-py%s.zip" % (version, tag))
+    with tempfile.TemporaryDirectory() as tmp:
+        staged = stage_addon(tmp, info, licenses)
+        vendor(staged, so_path)
+        write_zip(path, staged, "bdinterp_blender/", skip={MANIFEST})
+    return path
+
+
+def manifest_text(wheels):
+    """The source manifest with this build's platform and wheels."""
+    with open(os.path.join(SRC, MANIFEST), encoding="utf-8") as f:
+        text = f.read()
+    text = re.sub(r"^platforms\s*=.*$", 'platforms = ["%s"]' % PLATFORM, text, flags=re.M)
+    listed = "wheels = [\n%s]" % "".join('  "./wheels/%s",\n' % os.path.basename(w) for w in wheels)
+    if re.search(r"^wheels\s*=", text, re.M):
+        return re.sub(r"^wheels\s*=\s*\[[^\]]*\]", listed, text, flags=re.M)
+    return text.rstrip("\n") + "\n\n" + listed + "\n"
+
+
+def extension_zip(out, version, wheels, licenses):
+    """Extension: the package contents at the zip root, the manifest, ./wheels/ (no _vendor)."""
+    pythons = sorted(dotted(re.search(r"-cp(\d+)-", w).group(1)) for w in wheels)
+    info = {"version": version, "platform": PLATFORM, "layout": "extension", "pythons": pythons,
+            "python": ", ".join(pythons), "ext_suffix": "wheels"}
+    path = os.path.join(out, "bdinterp_blender-%s-extension.zip" % version)
+    with tempfile.TemporaryDirectory() as tmp:
+        staged = stage_addon(tmp, info, licenses)
+        os.makedirs(os.path.join(staged, "wheels"))
+        for w in wheels:
+            shutil.copy(w, os.path.join(staged, "wheels"))
+        write_zip(path, staged, "", replace={MANIFEST: manifest_text(wheels)})
+    return path
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--core", help="bdinterp package directory to vendor (default: installed)")
+    ap.add_argument("--portable", default=os.path.join(ROOT, "build", "portable"))
+    ap.add_argument("--core", help="development: a bdinterp package dir with a compiled module")
     ap.add_argument("--out", default=os.path.join(ROOT, "dist"))
     args = ap.parse_args()
-
-    pkg = core_dir(args.core)
-    so_name, ext_suffix = compiled_module(pkg)
-    check_links(os.path.join(pkg, so_name))
-    py, tag, triplet = abi_of(ext_suffix)
-    platform = PLATFORMS.get(triplet)
-    if platform is None:
-        die("unknown platform %r for the extension manifest" % triplet)
-    version, manifest = versions()
-    info = {"python": py, "ext_suffix": ext_suffix, "platform": platform, "version": version,
-            "compiled_module": so_name}
-    # The extension manifest states the one platform the vendored module is built for.
-    manifest = re.sub(r"^platforms\s*=.*$", 'platforms = ["%s"]' % platform, manifest, flags=re.M)
-
+    version = versions()
     os.makedirs(args.out, exist_ok=True)
-    with tempfile.TemporaryDirectory() as tmp:
-        staged = stage(tmp, pkg, so_name, info)
-        legacy = os.path.join(args.out, "bdinterp_blender-%s-legacy-%s.zip" % (version, tag))
-        extension = os.path.join(args.out, "bdinterp_blender-%s-extension-%s.zip" % (version, tag))
-        # Legacy: one top-level package folder; no manifest (4.2+ would treat it as extension).
-        write_zip(legacy, staged, "bdinterp_blender/", skip={MANIFEST})
-        # Extension: the package contents at the zip root, manifest included.
-        write_zip(extension, staged, "", replace={MANIFEST: manifest})
-    for path in (legacy, extension):
-        print("wrote %s (compiled module for Python %s, %s)" % (os.path.relpath(path), py, platform))
+    if args.core:
+        so = glob.glob(os.path.join(args.core, "_core.cpython-*.so"))
+        if len(so) != 1:
+            die("expected one compiled module in %s, found %s" % (args.core, so or "none"))
+        print("wrote %s (development, unaudited)" % legacy_zip(args.out, version, so[0], None))
+        return
+    licenses = os.path.join(args.portable, "licenses")
+    mods = portable_modules(args.portable)
+    wheels = [make_wheel.write_wheel(mods[t], args.out, licenses) for t in sorted(mods)]
+    written = [legacy_zip(args.out, version, mods[LEGACY_PYTHON], licenses),
+               extension_zip(args.out, version, wheels, licenses)] + wheels
+    for path in written:
+        print("wrote %s" % os.path.relpath(path))
+    audit = [sys.executable, os.path.join(ROOT, "scripts", "audit_so.py")] + written
+    if subprocess.run(audit).returncode:
+        die("the audit failed (table above)")
 
 
 if __name__ == "__main__":

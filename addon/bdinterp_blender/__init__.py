@@ -12,15 +12,17 @@ bl_info = {
     "description": "Bake and live-update bounded-distortion in-betweens and pose blends "
                    "of planar meshes with shape keys",
     "category": "Animation",
+    "license": "GPL-3.0-or-later",
 }
 
 import sys
 
-# Scripting name: as an extension (Blender 4.2+) this package is imported as
-# bl_ext.<repo>.bdinterp_blender, but scripts should be able to write `import bdinterp_blender`.
-sys.modules.setdefault("bdinterp_blender", sys.modules[__name__])
+from .core import alias_package, build_info, core_status, load_core  # noqa: E402
 
-from .core import build_info, core_status, load_core  # noqa: E402
+# Scripting name: as an extension (Blender 4.2+) this package is imported as
+# bl_ext.<repo>.bdinterp_blender, but scripts should be able to write `import bdinterp_blender`
+# (and `import bdinterp_blender.ui`: the same module objects, see core.alias_package).
+alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 

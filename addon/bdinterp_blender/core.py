@@ -1,6 +1,18 @@
 """Loads the compiled bdinterp core for this Blender's Python (no bpy): the one place that knows
-where the module lives in a zip and what to say when it does not fit."""
+where the module lives and what to say when it does not fit.
 
+Two layouts (scripts/build_addon.py):
+  legacy zip (Blender 3.4-4.1): the package vendored as bdinterp_blender/_vendor/bdinterp and
+      imported as that subpackage, so it stays private to the add-on (no sys.path entry, no global
+      `bdinterp` that another add-on's copy could shadow or be shadowed by);
+  extension zip (4.2+): Blender installs the wheel for its Python (./wheels/, listed in
+      blender_manifest.toml) into the extensions' site-packages; `import bdinterp` finds it.
+A source checkout uses whatever `bdinterp` the Python has installed.
+"""
+
+import importlib
+import importlib.abc
+import importlib.util
 import json
 import os
 import re
@@ -9,15 +21,25 @@ import sysconfig
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _VENDOR = os.path.join(_HERE, "_vendor")
+_PACKAGE = __name__.rpartition(".")[0]  # 'bdinterp_blender' or 'bl_ext.<repo>.bdinterp_blender'
 
 
 def build_info():
-    """What the zip was built with (written by scripts/build_addon.py), or {} for a source checkout."""
+    """What the zip was built with (written by scripts/build_addon.py), or {} for a source checkout.
+    Keys: version, platform, pythons (['3.11', '3.13']), layout ('legacy' | 'extension')."""
     try:
         with open(os.path.join(_HERE, "build_info.json"), encoding="utf-8") as f:
             return json.load(f)
     except OSError:
         return {}
+
+
+def _core_dir():
+    """Directory of the bdinterp package this add-on would import (None: none found), unimported."""
+    if os.path.isdir(_VENDOR):
+        return os.path.join(_VENDOR, "bdinterp")
+    spec = importlib.util.find_spec("bdinterp")
+    return os.path.dirname(spec.origin) if spec and spec.origin else None
 
 
 def core_status(ext_suffix=None):
@@ -30,30 +52,72 @@ def core_status(ext_suffix=None):
     ext_suffix = ext_suffix or sysconfig.get_config_var("EXT_SUFFIX") or ""
     m = re.match(r"\.cpython-(\d)(\d+)-", ext_suffix)
     running = "%s.%s" % m.groups() if m else "%d.%d" % sys.version_info[:2]
-    pkg = os.path.join(_VENDOR, "bdinterp")
-    if not os.path.isdir(pkg):
-        return True, ""  # source checkout: use an installed bdinterp (checked on first use)
-    shipped = sorted(n for n in os.listdir(pkg) if n.startswith("_core") and n.endswith((".so", ".pyd")))
+    info = build_info()
+    pkg = _core_dir()
+    if not info and pkg is None:
+        return True, ""  # source checkout without an installed bdinterp: reported on first use
+    shipped = sorted(n for n in os.listdir(pkg) if n.startswith("_core")
+                     and n.endswith((".so", ".pyd"))) if pkg and os.path.isdir(pkg) else []
     if any(n.endswith(ext_suffix) for n in shipped):
         return True, ""
-    info = build_info()
-    built = info.get("python", "?")
+    built = ", ".join(info.get("pythons", [])) or "?"
+    what = ("wheels of bdinterp" if info.get("layout") == "extension"
+            else "a compiled module (%s)" % (", ".join(shipped) or "none"))
     return False, (
-        "bdinterp: this add-on zip carries a compiled module for Python %s (%s), but this Blender "
-        "runs Python %s (needs %s). Install the bdinterp_blender zip built for Python %s."
-        % (built, ", ".join(shipped) or "none", running, "_core" + ext_suffix, running))
+        "bdinterp: this add-on carries %s for Python %s, but this Blender runs Python %s "
+        "(needs _core%s). Install the bdinterp_blender zip built for Python %s."
+        % (what, built, running, ext_suffix, running))
 
 
 def load_core():
-    """Import and return the bdinterp package (vendored copy first); RuntimeError with a clear
+    """Import and return the bdinterp package (the add-on's own copy); RuntimeError with a clear
     message if it cannot be loaded. Imported lazily: numpy and the compiled solver are heavy."""
     ok, message = core_status()
     if not ok:
         raise RuntimeError(message)
-    if os.path.isdir(_VENDOR) and _VENDOR not in sys.path:
-        sys.path.insert(0, _VENDOR)
+    name = _PACKAGE + "._vendor.bdinterp" if os.path.isdir(_VENDOR) else "bdinterp"
     try:
-        import bdinterp
+        return importlib.import_module(name)
     except ImportError as exc:
         raise RuntimeError("bdinterp: the compiled core could not be loaded (%s)" % exc) from exc
-    return bdinterp
+
+
+class _Loaded(importlib.abc.Loader):
+    """Loader of a module that is already imported under its real name."""
+
+    def __init__(self, module):
+        self.module = module
+
+    def create_module(self, spec):
+        return self.module
+
+    def exec_module(self, module):
+        pass
+
+
+class _AliasFinder(importlib.abc.MetaPathFinder):
+    """Resolves `alias.sub` to the already-imported `real.sub`, so that `import
+    bdinterp_blender.ui` under an extension gives bl_ext.<repo>.bdinterp_blender.ui itself; without
+    it Python loads the file a second time and the copy's state (e.g. ui.CORE_ERROR) diverges."""
+
+    def __init__(self, alias, real):
+        self.alias, self.real = alias, real
+
+    def find_spec(self, fullname, path=None, target=None):
+        if not fullname.startswith(self.alias + "."):
+            return None
+        module = importlib.import_module(self.real + fullname[len(self.alias):])
+        return importlib.util.spec_from_loader(fullname, _Loaded(module))
+
+
+def alias_package(module, alias="bdinterp_blender"):
+    """Make the package `module` (an extension's bl_ext.<repo>.bdinterp_blender) importable as
+    `alias`, submodules included, for scripts that write `import bdinterp_blender`."""
+    sys.modules[alias] = module
+    if module.__name__ == alias:
+        return
+    sys.meta_path[:] = [f for f in sys.meta_path
+                        if not (isinstance(f, _AliasFinder) and f.alias == alias)]
+    sys.meta_path.insert(0, _AliasFinder(alias, module.__name__))
+    for name in [n for n in sys.modules if n.startswith(alias + ".")]:
+        del sys.modules[name]  # copies loaded before the alias (or from a replaced build)

@@ -1,6 +1,7 @@
 """Fixtures and mesh builders for the Blender tests (run inside Blender by run_blender_tests.py)."""
 
 import glob
+import importlib
 import json
 import math
 import os
@@ -12,6 +13,12 @@ import pytest
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 TOL = 1e-6
+# Blender 4.2+ with the extension zip (run_blender_tests.py --extension installed it): the add-on is
+# the module bl_ext.user_default.bdinterp_blender; with the legacy zip it is bdinterp_blender.
+EXTENSION = os.environ.get("BDI_EXTENSION_ZIP")
+ADDON_MODULE = "bl_ext.user_default.bdinterp_blender" if EXTENSION else "bdinterp_blender"
+# The user folders a child Blender needs to see the installed add-on or extension.
+USER_ENV = ("BLENDER_USER_SCRIPTS", "BLENDER_USER_EXTENSIONS", "BLENDER_USER_CONFIG")
 
 
 def addon_zip():
@@ -27,15 +34,20 @@ def addon_zip():
 
 @pytest.fixture(scope="session")
 def addon():
-    """Install the built zip with Blender's own installer (isolated user folder) and enable it."""
+    """Install the built zip with Blender's own installer (isolated user folder) and enable it
+    (an extension zip is installed already, by `blender --command extension install-file`)."""
     import addon_utils
     assert os.environ.get("BLENDER_USER_SCRIPTS"), "run through run_blender_tests.py"
-    bpy.ops.preferences.addon_install(filepath=addon_zip(), overwrite=True)
-    addon_utils.enable("bdinterp_blender", default_set=True)
-    assert addon_utils.check("bdinterp_blender") == (True, True)
-    import bdinterp_blender
-    assert bdinterp_blender.__file__.startswith(os.environ["BLENDER_USER_SCRIPTS"])
-    return bdinterp_blender
+    if not EXTENSION:
+        bpy.ops.preferences.addon_install(filepath=addon_zip(), overwrite=True)
+    addon_utils.enable(ADDON_MODULE, default_set=True)
+    assert addon_utils.check(ADDON_MODULE) == (True, True)
+    module = importlib.import_module(ADDON_MODULE)
+    import bdinterp_blender  # the scripting name: the same module (an alias for the extension)
+    assert bdinterp_blender is module
+    user = os.environ["BLENDER_USER_EXTENSIONS" if EXTENSION else "BLENDER_USER_SCRIPTS"]
+    assert module.__file__.startswith(user)
+    return module
 
 
 @pytest.fixture(scope="session")
@@ -187,10 +199,19 @@ def two_pieces(name="Pieces"):
 
 # ---------------------------------------------------------------- other Blender processes
 
-def run_blender(args, env_drop=("BLENDER_USER_SCRIPTS",), timeout=300):
-    """Run another (headless) Blender; by default without our user folder, i.e. without the
-    add-on.  Returns the CompletedProcess; stdout lines 'JSON:...' carry results."""
+def run_blender(args, env_drop=USER_ENV, timeout=300):
+    """Run another (headless) Blender; by default without our user folders, i.e. without the
+    add-on.  Returns the CompletedProcess; stdout lines 'JSON:...' carry results.
+    With the user folders (env_drop=()) an extension is enabled in the child, because (unlike a
+    legacy add-on on the scripts path) it is importable only then: `--addons bdinterp_blender`
+    becomes `--addons bl_ext.user_default.bdinterp_blender`."""
     env = {k: v for k, v in os.environ.items() if k not in env_drop}
+    if EXTENSION and "BLENDER_USER_EXTENSIONS" in env:
+        args = list(args)
+        if "--addons" in args and args[args.index("--addons") + 1] == "bdinterp_blender":
+            args[args.index("--addons") + 1] = ADDON_MODULE
+        else:
+            args = ["--addons", ADDON_MODULE] + args
     proc = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", *args],
                           capture_output=True, text=True, timeout=timeout, env=env)
     return proc

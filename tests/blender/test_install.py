@@ -2,14 +2,18 @@
 
 import json
 import os
+import re
 import shutil
+import subprocess
 import sys
 import tomllib
 import zipfile
 
 import bpy
 
-from conftest import addon_zip, json_lines, run_blender, write_child_script
+from conftest import ADDON_MODULE, EXTENSION, addon_zip, json_lines, run_blender, write_child_script
+
+RUNNING = "%d.%d" % sys.version_info[:2]
 
 
 def test_installed_from_zip_and_registered(addon):
@@ -18,32 +22,46 @@ def test_installed_from_zip_and_registered(addon):
         assert hasattr(bpy.ops.bdinterp, op)
     assert hasattr(bpy.types, "BDINTERP_PT_main")
     info = addon.build_info()
-    assert info["python"] == "%d.%d" % sys.version_info[:2]
+    assert RUNNING in info["pythons"]
+    assert info["layout"] == ("extension" if EXTENSION else "legacy")
     assert addon.core_status() == (True, "")
+    bd = addon.load_core()
+    if EXTENSION:  # from its wheel, in the extensions' site-packages
+        assert bd.__name__ == "bdinterp" and "site-packages" in bd.__file__
+    else:  # private to the add-on: no global `bdinterp` module, no sys.path entry
+        assert bd.__name__ == ADDON_MODULE + "._vendor.bdinterp"
+        assert not any(p.endswith("_vendor") for p in sys.path)
 
 
-def test_zip_names_and_manifest_state_the_python():
+def test_extension_zip_lists_a_wheel_per_python():
     legacy = addon_zip()
-    assert legacy.endswith("-legacy-py%d%d.zip" % sys.version_info[:2])
-    extension = legacy.replace("-legacy-", "-extension-")
+    assert legacy.endswith("-legacy-py311.zip")  # Blender 3.4-4.1 embed Python 3.11
+    extension = re.sub(r"-legacy-py\d+\.zip$", "-extension.zip", legacy)
     with zipfile.ZipFile(extension) as zf:
         manifest = tomllib.loads(zf.read("blender_manifest.toml").decode())
         names = zf.namelist()
         info = json.loads(zf.read("build_info.json"))
     assert manifest["id"] == "bdinterp_blender" and manifest["type"] == "add-on"
     assert manifest["platforms"] == ["linux-x64"] and manifest["blender_version_min"] == "4.2.0"
-    assert "__init__.py" in names and any(n.startswith("_vendor/bdinterp/_core") for n in names)
-    assert info["ext_suffix"].startswith(".cpython-%d%d-" % sys.version_info[:2])
+    assert manifest["license"] == ["SPDX:GPL-3.0-or-later"]
+    tags = sorted(re.search(r"-(cp\d+)-cp\d+-manylinux_2_31_x86_64\.whl$", w).group(1)
+                  for w in manifest["wheels"])
+    assert tags == ["cp311", "cp313"] and info["pythons"] == ["3.11", "3.13"]
+    assert all(w[2:] in names for w in manifest["wheels"])  # './wheels/...'
+    assert "__init__.py" in names and not any(n.startswith("_vendor/") for n in names)
+    assert "LICENSE" in names and "licenses/libcholmod3.copyright" in names
     with zipfile.ZipFile(legacy) as zf:
         names = zf.namelist()
     assert all(n.startswith("bdinterp_blender/") for n in names)
     assert "bdinterp_blender/blender_manifest.toml" not in names
+    assert "bdinterp_blender/_vendor/bdinterp/_core.cpython-311-x86_64-linux-gnu.so" in names
+    assert "bdinterp_blender/licenses/libopenblas0-pthread.copyright" in names
 
 
 def test_core_status_names_both_pythons(addon):
     ok, message = addon.core_status(ext_suffix=".cpython-312-x86_64-linux-gnu.so")
     assert not ok
-    assert "Python 3.11" in message and "Python 3.12" in message
+    assert "Python 3.11" in message and "Python 3.12" in message  # 3.11: in both zips
 
 
 CHILD = """
@@ -70,7 +88,7 @@ def test_wrong_python_gives_a_message_not_a_traceback(tmp_path):
                 name = name.split("_core.cpython-")[0] + "_core.cpython-399-x86_64-linux-gnu.so"
             if name.endswith("build_info.json"):
                 info = json.loads(data)
-                info["python"] = "3.99"
+                info["python"], info["pythons"] = "3.99", ["3.99"]
                 data = json.dumps(info).encode()
             dst.writestr(name, data)
     user = os.path.join(tmp, "user")
@@ -79,11 +97,72 @@ def test_wrong_python_gives_a_message_not_a_traceback(tmp_path):
     env_user = os.environ.get("BLENDER_USER_SCRIPTS")
     os.environ["BLENDER_USER_SCRIPTS"] = user
     try:
-        proc = run_blender(["--python", script, "--", broken], env_drop=())
+        proc = run_blender(["--python", script, "--", broken], env_drop=("BLENDER_USER_EXTENSIONS",))
     finally:
         os.environ["BLENDER_USER_SCRIPTS"] = env_user
     out = json_lines(proc)[0]
     assert out["enabled"] and out["panel"] == "bdinterp" and not out["has_bake"]
-    assert "Python 3.99" in out["message"] and "runs Python 3.11" in out["message"]
+    assert "Python 3.99" in out["message"] and "runs Python %s" % RUNNING in out["message"]
     assert "Traceback" not in proc.stdout + proc.stderr
     shutil.rmtree(user, ignore_errors=True)
+
+
+def next_build(src, dst):
+    """Copy the zip `src` as the next build of the add-on (same id, patch version + 1 in bl_info,
+    the manifest and build_info.json); return the new version."""
+    with zipfile.ZipFile(src) as zin:
+        info_name = next(n for n in zin.namelist() if n.endswith("build_info.json"))
+        old = json.loads(zin.read(info_name))["version"]
+        major, minor, patch = map(int, old.split("."))
+        new = "%d.%d.%d" % (major, minor, patch + 1)
+        with zipfile.ZipFile(dst, "w", zipfile.ZIP_DEFLATED) as zout:
+            for item in zin.infolist():
+                data = zin.read(item)
+                if item.filename == info_name:
+                    data = data.replace(b'"version": "%s"' % old.encode(), b'"version": "%s"' % new.encode())
+                elif item.filename.endswith("blender_manifest.toml"):
+                    data = data.replace(b'version = "%s"' % old.encode(), b'version = "%s"' % new.encode())
+                elif item.filename in ("__init__.py", "bdinterp_blender/__init__.py"):
+                    data = data.replace(b'"version": (%d, %d, %d)' % (major, minor, patch),
+                                        b'"version": (%d, %d, %d)' % (major, minor, patch + 1))
+                zout.writestr(item, data)
+    return old, new
+
+
+REPORT = """
+import addon_utils, sys
+if sys.argv[-1] != "-":
+    bpy.ops.preferences.addon_install(filepath=sys.argv[-1], overwrite=True)
+addon_utils.enable(sys.argv[-2], default_set=True)
+mod = sys.modules[sys.argv[-2]]
+bd = mod.load_core()
+print("JSON:" + json.dumps({"version": mod.build_info()["version"], "status": mod.core_status()[0],
+                            "core": bd.__name__, "solver": bd.SolverError.__name__}))
+"""
+
+
+def test_newer_build_installs_over_the_installed_one(tmp_path):
+    """Install this build, then the next one (same id) over it, in a fresh user folder: the new
+    version is the one that loads, with a working compiled core."""
+    tmp = str(tmp_path)
+    src = EXTENSION or addon_zip()
+    newer = os.path.join(tmp, "newer-" + os.path.basename(src))
+    old, new = next_build(src, newer)
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(tmp, "scripts"),
+               BLENDER_USER_EXTENSIONS=os.path.join(tmp, "extensions"),
+               BLENDER_USER_CONFIG=os.path.join(tmp, "config"))
+    script = write_child_script(tmp_path, REPORT)
+    versions = []
+    for zip_path in (src, newer):
+        if EXTENSION:
+            cmd = ["--command", "extension", "install-file", "-r", "user_default", zip_path]
+            proc = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", *cmd],
+                                  capture_output=True, text=True, env=env, timeout=300)
+            assert proc.returncode == 0, proc.stdout[-2000:] + proc.stderr[-2000:]
+        proc = subprocess.run([bpy.app.binary_path, "--background", "--factory-startup", "--python",
+                               script, "--", ADDON_MODULE, "-" if EXTENSION else zip_path],
+                              capture_output=True, text=True, env=env, timeout=300)
+        out = json_lines(proc)[0]
+        assert out["status"] and out["solver"] == "SolverError", out
+        versions.append(out["version"])
+    assert versions == [old, new]
