@@ -57,10 +57,12 @@ void bind_stats(py::module_& m) {
              throw py::key_error("FrameStats has no field '" + key + "'");
            })
       .def("__repr__", [names](py::object self) {
-        std::string s = "FrameStats(";
-        for (const auto& n : *names)
-          s += (s.back() == '(' ? "" : ", ") + n + "=" + py::str(self.attr(n.c_str())).cast<std::string>();
-        return s + ")";
+        std::string s;
+        for (const auto& n : *names) {
+          const auto value = py::repr(self.attr(n.c_str())).cast<std::string>();
+          s += (s.empty() ? "" : ", ") + n + "=" + value;
+        }
+        return "FrameStats(" + s + ")";
       });
 }
 

@@ -57,7 +57,7 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
     for k in floats:
         assert type(getattr(st, k)) is float and st[k] == getattr(st, k)
     assert st.as_dict() == {k: getattr(st, k) for k in st.keys()}
-    assert st.pieces == 1 and "pieces=1" in repr(st)
+    assert st.pieces == 1 and "pieces=1" in repr(st) and "warnings=''" in repr(st)
     with pytest.raises(KeyError, match="no field 'nope'"):
         st["nope"]
     with pytest.raises(AttributeError):
