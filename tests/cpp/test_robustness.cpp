@@ -8,12 +8,14 @@
 
 #include "bdinterp/baselines.h"
 #include "bdinterp/interpolator.h"
+#include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
 
 double max_abs(const Positions& A) { return A.cwiseAbs().maxCoeff(); }
+using testing::expect_invalid;
 
 // A disk whose middle is twisted by up to `turns` radians: blends towards it end with triangles
 // that violate the triangle inequality in the flattened metric (from t ~ 0.75 on).
@@ -146,17 +148,6 @@ TEST_F(BentBar, CoordinatesOfAnyMagnitudeGiveTheScaledFrames) {
   const Eigen::RowVector2d far(1e12, -3e12);
   Interpolator moved({(m.V.rowwise() + far).eval(), (bent.rowwise() + far).eval()}, m.F), unit({m.V, bent}, m.F);
   EXPECT_LT(max_abs((moved.at(0.4).rowwise() - far) - unit.at(0.4)), 1e-3);  // 1e12 * 1e-15
-}
-
-// Expects InvalidInput whose message contains `needle`.
-template <typename Fn>
-void expect_invalid(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    ADD_FAILURE() << "no exception, expected one mentioning '" << needle << "'";
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
 }
 
 TEST_F(BentBar, BadParametersAreRejectedByName) {
