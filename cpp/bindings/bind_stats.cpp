@@ -30,6 +30,8 @@ void bind_stats(py::module_& m) {
         "faces violating the triangle inequality at the solution");
   field(cls, *names, "max_broken_triangles", &FrameStats::max_broken_triangles,
         "the most broken triangles seen during Newton");
+  field(cls, *names, "line_search_steps", &FrameStats::line_search_steps,
+        "step halvings over all iterations (summed)");
   field(cls, *names, "flatness", &FrameStats::flatness, "layout residual (see Layout::embed)");
   field(cls, *names, "pieces", &FrameStats::pieces, "connected pieces solved");
   field(cls, *names, "factorizations", &FrameStats::factorizations,
@@ -37,6 +39,10 @@ void bind_stats(py::module_& m) {
   field(cls, *names, "chord_steps", &FrameStats::chord_steps,
         "Newton steps that reused an earlier factorisation (summed)");
   field(cls, *names, "seconds", &FrameStats::seconds, "wall-clock seconds in C++");
+  field(cls, *names, "converged", &FrameStats::converged,
+        "every frame passed the self-check (finite, no broken triangles, flat layout)");
+  field(cls, *names, "warnings", &FrameStats::warnings,
+        "why not, naming the first failing frame; empty when converged");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {
@@ -51,10 +57,12 @@ void bind_stats(py::module_& m) {
              throw py::key_error("FrameStats has no field '" + key + "'");
            })
       .def("__repr__", [names](py::object self) {
-        std::string s = "FrameStats(";
-        for (const auto& n : *names)
-          s += (s.back() == '(' ? "" : ", ") + n + "=" + py::str(self.attr(n.c_str())).cast<std::string>();
-        return s + ")";
+        std::string s;
+        for (const auto& n : *names) {
+          const auto value = py::repr(self.attr(n.c_str())).cast<std::string>();
+          s += (s.empty() ? "" : ", ") + n + "=" + value;
+        }
+        return "FrameStats(" + s + ")";
       });
 }
 

@@ -98,12 +98,32 @@ struct Interpolator::Workspace {
                       const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) {
     l2w = blend_squared_lengths(p.piece.mesh, p.l2, w);
     history.predict(w, u);
-    const FlattenReport rep = flattener.solve(l2w, u, opt);
-    history.add(w, u);
-    // The layout solves with the flattening's factorised Hessian: no second factor.
+    const bool cold = u.isZero(0.0) && !flattener.has_reusable_factorization();
+    FlattenReport rep = flattener.solve(l2w, u, opt);
+    if (rep.broken_triangles > 0 && !cold) {
+      // Broken triangles at the solution: the energy is not strictly convex there and the point
+      // reached depends on the start. Solve again as a fresh Interpolator would, so the frame does
+      // not depend on the frames before it, and keep it out of the warm-start history.
+      flattener.forget();
+      u.setZero();
+      const FlattenReport warm = rep;
+      rep = flattener.solve(l2w, u, opt);
+      rep.factorizations += warm.factorizations;
+      rep.chord_steps += warm.chord_steps;
+      rep.line_search_steps += warm.line_search_steps;
+    }
+    if (rep.broken_triangles == 0) history.add(w, u);
+    // The layout solves with the flattening's factorised Hessian: no second factor. Unless that
+    // factorisation needed a diagonal shift (a singular Hessian, e.g. broken triangles around a
+    // vertex): refining a shifted singular system fails (frames 40 % off), so the uniform Laplacian.
     double shift = 0;
     SparseCholesky* W = flattener.num_interior() > 0 ? &flattener.factored_hessian(l2w, u, &shift) : nullptr;
-    layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
+    if (shift > 0) {
+      layout.ensure_own_system();
+      layout.embed(flattener.flat_squared_lengths(), X, flatness);
+    } else {
+      layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
+    }
     if (p.mirrored) X.col(0) *= -1.0;
     p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);

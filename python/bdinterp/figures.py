@@ -38,13 +38,21 @@ def save(fig, path, dpi=120):
     print(f"wrote {path}")
 
 
-def to_plane(X, F):
-    """2D coordinates (n, 2) of a planar shape X ((n, 2) or (n, 3)): 3D shapes in their plane, seen
-    from the side the faces F point to (Plane.fit with faces)."""
+def to_plane(X, F, plane=None):
+    """2D coordinates (n, 2) of a planar shape X ((n, 2) or (n, 3)). 3D shapes: in `plane` (give the
+    source's, view_plane(), so that every panel of a figure is seen in one frame), or else in their
+    own plane seen from the side the faces F point to."""
     X = np.asarray(X, dtype=np.float64)
     if X.shape[1] == 2:
         return X
-    return Plane.fit(X, F).to_plane(X, "shape", tolerance=np.inf)
+    return (plane or Plane.fit(X, F)).to_plane(X, "shape", tolerance=np.inf)
+
+
+def view_plane(source, F):
+    """The frame in which a figure shows every shape: the source's plane facing its faces (3D), or
+    None (2D)."""
+    source = np.asarray(source)
+    return Plane.fit(source, F) if source.shape[1] == 3 else None
 
 
 def sweep(source, target, faces, ts, methods=METHODS, anchor=None, progress=None):
@@ -96,11 +104,11 @@ def top_distortion(K, n=100):
 # ---------------------------------------------------------------- figures
 
 def draw_mesh(ax, X, F, values=None, norm=None, cmap="viridis",
-              flipped=None, title=None):
+              flipped=None, title=None, plane=None):
     """Draw mesh X (n,2) F (m,3) on ax, faces coloured by values (m,);
     faces in the boolean mask ``flipped`` are drawn red.  Returns the
     collection for a colour bar (or None)."""
-    X = to_plane(X, F)
+    X = to_plane(X, F, plane)
     coll = None
     edge = dict(edgecolors="k", linewidth=0.1) if len(F) < 2500 else {}
     if values is None and len(F) >= 2500:  # edges would paint it grey
@@ -156,18 +164,19 @@ def compare_figure(source, target, faces, t, ts, result, top=100):
     fig = plt.figure(figsize=(3.0 * n, 6.6))
     grid = fig.add_gridspec(2, n, height_ratios=[1.1, 1])
     axes = [fig.add_subplot(grid[0, c]) for c in range(n)]
+    plane = view_plane(source, faces)
     draw_mesh(axes[0], source, faces, np.ones(len(faces)), norm,
-              title="source")
+              title="source", plane=plane)
     for ax, m in zip(axes[1:], methods):
         r = result[m]
         draw_mesh(ax, r["frames"][i], faces, r["K"][i], norm,
                   flipped=bdinterp.area_ratio(source, r["frames"][i],
                                               faces) <= 0,
                   title=f"{m}, t={ts[i]:g}\nmax K {np.max(r['K'][i]):.3g}, "
-                        f"{r['flipped'][i]} flipped")
+                        f"{r['flipped'][i]} flipped", plane=plane)
     coll = draw_mesh(axes[-1], target, faces, K_in, norm,
                      flipped=bdinterp.area_ratio(source, target, faces) <= 0,
-                     title=f"target\nmax K {np.max(K_in):.3g}")
+                     title=f"target\nmax K {np.max(K_in):.3g}", plane=plane)
     bar = fig.colorbar(coll, ax=axes, shrink=0.7, extend="max",
                        label="K (flipped: red)")
     _plain_ticks(bar.ax.yaxis, norm.vmax)
@@ -204,10 +213,11 @@ def distortion_curves_figure(source, target, faces, ts, frames, K, sample,
               + [(target, "target")])
     fig = plt.figure(figsize=(3.0 * len(shapes), 6.4))
     grid = fig.add_gridspec(2, len(shapes), height_ratios=[1, 1.2])
+    plane = view_plane(source, faces)
     for c, (X, title) in enumerate(shapes):
         ax = fig.add_subplot(grid[0, c])
-        draw_mesh(ax, X, faces, title=title)
-        Y = to_plane(X, faces)
+        draw_mesh(ax, X, faces, title=title, plane=plane)
+        Y = to_plane(X, faces, plane)
         ax.tripcolor(Y[:, 0], Y[:, 1], faces[sample],
                      facecolors=np.arange(len(sample)) % 20, cmap="tab20",
                      vmin=0, vmax=19)

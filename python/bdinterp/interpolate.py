@@ -59,12 +59,15 @@ def _core_anchor(anchor, num_vertices, plane):
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
 
 
-def _options(base, tol, max_iterations, threads):
+def _options(base, tol, max_iterations, threads, strict):
     o = _core.InterpolatorOptions()
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
     o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
+    if not isinstance(strict, (bool, np.bool_)):
+        raise ValueError(f"strict must be True or False, got {strict!r}")
+    o.strict = bool(strict)
     return o
 
 
@@ -76,19 +79,21 @@ class Interpolator:
     vertex index (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start
     from. tol: convergence tolerance on max |2 pi - angle sum| (radians, > 0); max_iterations: Newton
     steps before SolverError (>= 1); threads: cores to use (frames() splits a sequence over them, a
-    single frame its loops; 0 = all cores, 1 = sequential).
+    single frame its loops; 0 = all cores, 1 = sequential). strict: a frame that fails the
+    self-check (non-finite, broken triangles or a layout that does not close, see FrameStats
+    converged/warnings) raises SolverError instead of being returned with stats.converged False.
 
     Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
     taken with the GIL released); each returns what it would have returned alone.
     """
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
-                 max_iterations=MAX_ITERATIONS, threads=THREADS):
+                 max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False):
         shapes2d, self._plane = _validate.planar_shapes(shapes, base)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
-        options = _options(base, tol, max_iterations, threads)
+        options = _options(base, tol, max_iterations, threads, strict)
         self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._n, self._plane),
                                         options)
 
@@ -128,7 +133,8 @@ class Interpolator:
     def stats(self):
         """FrameStats of the last at()/blend() (or of all frames of the last frames()): attributes
         (and keys) iterations, residual (max |2 pi - angle sum|), broken_triangles,
-        max_broken_triangles, flatness, pieces, factorizations, chord_steps, seconds."""
+        max_broken_triangles, line_search_steps, flatness, pieces, factorizations, chord_steps,
+        seconds, converged (the self-check passed), warnings (why not)."""
         return self._core.stats
 
 
@@ -142,7 +148,7 @@ def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
     """In-betweens of `source` and `target` ((n, 2) or planar (n, 3)) at every t of ts: (len(ts), n, d).
 
     method: "bdi" (bounded distortion, the default; options are Interpolator's tol, max_iterations,
-    threads), "arap" (Alexa et al. 2000 with unwrapped rotations) or "linear" (vertex blend). The
+    threads, strict), "arap" (Alexa et al. 2000 with unwrapped rotations) or "linear" (vertex blend). The
     baselines take no anchor (None or "auto") and no options.
     """
     if _method(method) == "bdi":

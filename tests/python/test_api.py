@@ -129,6 +129,7 @@ def test_frames_options_and_methods_are_checked(bar):
     ({"threads": 1.0}, "threads must be an integer, got 1.0"),
     ({"threads": True}, "threads must be an integer, got True"),
     ({"base": 2}, r"base must be an integer in \[0, 1\], got 2"),
+    ({"strict": "yes"}, "strict must be True or False"),
 ])
 def test_options_are_validated_naming_the_argument(disk, kwargs, message):
     V, F = disk

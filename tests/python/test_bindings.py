@@ -32,7 +32,8 @@ def test_options_defaults_are_the_constants():
     o = _core.InterpolatorOptions()
     assert (o.base, o.tolerance, o.max_iterations, o.threads) == (
         0, constants.TOLERANCE, constants.MAX_ITERATIONS, constants.THREADS)
-    assert o.reuse_factorization is True
+    assert o.reuse_factorization is True and o.strict is False and o.max_flatness > 0
+    assert _core.InterpolatorOptions.MAX_THREADS == constants.MAX_THREADS
     o.tolerance, o.max_iterations, o.threads = 1e-6, 7, 3
     assert (o.tolerance, o.max_iterations, o.threads) == (1e-6, 7, 3)
     with pytest.raises(TypeError):
@@ -46,20 +47,31 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
     interp.at(0.5)
     st = interp.stats
     assert isinstance(st, bdinterp.FrameStats)
-    ints = ("iterations", "broken_triangles", "max_broken_triangles", "pieces", "factorizations",
-            "chord_steps")
+    ints = ("iterations", "broken_triangles", "max_broken_triangles", "line_search_steps", "pieces",
+            "factorizations", "chord_steps")
     floats = ("residual", "flatness", "seconds")
-    assert set(st.keys()) == set(ints + floats)
+    assert set(st.keys()) == set(ints + floats + ("converged", "warnings"))
+    assert st.converged is True and st.warnings == ""
     for k in ints:
         assert type(getattr(st, k)) is int and st[k] == getattr(st, k)
     for k in floats:
         assert type(getattr(st, k)) is float and st[k] == getattr(st, k)
     assert st.as_dict() == {k: getattr(st, k) for k in st.keys()}
-    assert st.pieces == 1 and "pieces=1" in repr(st)
+    assert st.pieces == 1 and "pieces=1" in repr(st) and "warnings=''" in repr(st)
     with pytest.raises(KeyError, match="no field 'nope'"):
         st["nope"]
     with pytest.raises(AttributeError):
         st.iterations = 3  # read-only
+
+
+def test_options_reach_the_core(disk):
+    V, F = disk
+    o = _core.InterpolatorOptions()
+    o.threads, o.strict, o.max_iterations = 3, True, 9
+    core = _core.Interpolator([V, 2 * V], F, _core.Anchor.centroid(), o)
+    assert (core.threads, core.options.strict, core.options.max_iterations) == (3, True, 9)
+    py = bdinterp.Interpolator([V, 2 * V], F, threads=2, strict=True, tol=1e-9)
+    assert (py.threads, py._core.options.strict, py._core.options.tolerance) == (2, True, 1e-9)
 
 
 def test_frames_into_writes_the_callers_array(disk):

@@ -309,3 +309,34 @@ def test_figures_without_matplotlib_say_so(pair, tmp_path, capsys, monkeypatch):
     monkeypatch.setitem(_sys.modules, "matplotlib", None)  # import matplotlib now fails
     code, _, err = run(["compare", src, tgt, "--samples", 2, "-o", tmp_path / "c.png"], capsys)
     assert_one_line_error(code, err, "needs matplotlib", "python3-matplotlib")
+
+
+def test_ear_clipping_handles_collinear_corners_and_large_polygons():
+    from bdinterp.polygon import triangulate
+    # A square with a corner half way along its bottom edge: 3 triangles, none degenerate.
+    square = np.array([[0, 0], [0.5, 0], [1, 0], [1, 1], [0, 1.0]])
+    tris = np.array(triangulate(list(range(5)), square))
+    areas = meshes.signed_areas(square, tris)
+    assert len(tris) == 3 and np.all(areas > 0)
+    np.testing.assert_allclose(areas.sum(), 1.0)
+    # A star with 1000 points (2000 corners): still k - 2 positive triangles.
+    a = np.pi * np.arange(2000) / 1000
+    r = np.where(np.arange(2000) % 2 == 0, 1.0, 0.9)
+    star = np.c_[r * np.cos(a), r * np.sin(a)]
+    tris = np.array(triangulate(list(range(2000)), star))
+    assert len(tris) == 1998 and np.all(meshes.signed_areas(star, tris) > 0)
+
+
+def test_figures_show_3d_shapes_in_the_sources_frame(pair):
+    # Every panel of a figure of 3D input is drawn in the source's plane: the 2D pictures of the
+    # source and the target differ from the 2D originals by one and the same rigid motion.
+    from bdinterp import figures
+    _, _, V, Y, F = pair
+    Q, _ = np.linalg.qr(np.random.default_rng(4).normal(size=(3, 3)))
+    B = Q[:, :2].T
+    plane = figures.view_plane(V @ B + 1.0, F)
+    S, T = (figures.to_plane(X @ B + 1.0, F, plane) for X in (V, Y))
+    M, *_ = np.linalg.lstsq(np.c_[V, np.ones(len(V))], S, rcond=None)
+    np.testing.assert_allclose(np.c_[Y, np.ones(len(Y))] @ M, T, atol=1e-12)
+    np.testing.assert_allclose(M[:2] @ M[:2].T, np.eye(2), atol=1e-12)
+    assert np.linalg.det(M[:2]) > 0  # seen from the side the faces point to

@@ -86,6 +86,43 @@ def peak_memory(n):
     return 1024.0 * peak, 1024.0 * base
 
 
+def _bake(V, T, F, repeats):
+    """Seconds per frame of frames() over 101 frames, on one thread (bake1) and on all (bake)."""
+    ts = np.linspace(0.0, 1.0, 101)
+    out = np.empty((ts.size * V.shape[0], 2))
+    row = {}
+    for threads, key in ((1, "bake1"), (0, "bake")):
+        options = _core.InterpolatorOptions()
+        options.threads = threads
+        baker = _core.Interpolator([V, T], F, _core.Anchor.centroid(), options)
+
+        def bake():
+            baker.forget()
+            baker.frames_into(ts.tolist(), out)
+            _check(baker.stats)
+
+        row[key] = _median_time(bake, repeats) / ts.size
+    return row
+
+
+def _python_overhead(V, T, F, repeats):
+    """Median of (wall time of the public wrapper's at()) / (C++ time of the same frame) - 1."""
+    py = Interpolator([V, T], F)
+    t = 0.0
+    for _ in range(3):
+        t += 0.01
+        py.at(t)
+    over = []
+    for _ in range(max(repeats, 5) * 4):
+        t = t + 0.01 if t < 0.98 else 0.02
+        t0 = time.perf_counter()
+        py.at(t)
+        total = time.perf_counter() - t0
+        _check(py.stats)
+        over.append(total / py.stats["seconds"] - 1.0)
+    return statistics.median(over)
+
+
 def run_size(n, repeats, big=False):
     V, T, F = make_case(n)
     nv = V.shape[0]
@@ -141,36 +178,8 @@ def run_size(n, repeats, big=False):
     arap = _core.ArapInterpolator(V, T, F)
     row["poisson"] = _median_time(lambda: arap.at(float(next(lin_t))), repeats, min_time)
 
-    ts = np.linspace(0.0, 1.0, 101)
-    out = np.empty((ts.size * nv, 2))
-    for threads, key in ((1, "bake1"), (0, "bake")):
-        options = _core.InterpolatorOptions()
-        options.threads = threads
-        baker = _core.Interpolator([V, T], F, _core.Anchor.centroid(), options)
-
-        def bake():
-            baker.forget()
-            baker.frames_into(ts.tolist(), out)
-            _check(baker.stats)
-
-        row[key] = _median_time(bake, repeats) / ts.size
-
-    # Python layer: the public wrapper's at() against the C++ time of the same frame.
-    py = Interpolator([V, T], F)
-    py_state = {"t": 0.0}
-    for _ in range(3):
-        py_state["t"] += 0.01
-        py.at(py_state["t"])
-    over = []
-    for _ in range(max(repeats, 5) * 4):
-        py_state["t"] = py_state["t"] + 0.01 if py_state["t"] < 0.98 else 0.02
-        t0 = time.perf_counter()
-        py.at(py_state["t"])
-        total = time.perf_counter() - t0
-        _check(py.stats)
-        over.append(total / py.stats["seconds"] - 1.0)
-    row["python_overhead"] = statistics.median(over)
-
+    row.update(_bake(V, T, F, repeats))
+    row["python_overhead"] = _python_overhead(V, T, F, repeats)
     mem, base = peak_memory(n)
     row["peak_B_per_vertex"] = mem / nv
     row["peak_above_import_B_per_vertex"] = (mem - base) / nv
