@@ -28,10 +28,15 @@ def key_block(key, name):
     return kb
 
 
-def read_co(kb):
+def read_raw(kb):
+    """kb's coordinates as Blender stores them: float32 (n*3,)."""
     co = np.empty(len(kb.data) * 3, dtype=np.float32)
     kb.data.foreach_get("co", co)
-    return co.reshape(-1, 3).astype(np.float64)
+    return co
+
+
+def read_co(kb):
+    return read_raw(kb).reshape(-1, 3).astype(np.float64)
 
 
 def write_co(kb, co):
@@ -55,6 +60,15 @@ def triangles(mesh):
     return faces.reshape(-1, 3).astype(np.int64), poly.astype(np.int64)
 
 
+def fit_plane(points):
+    """(centre, unit normal) of the least-squares plane of (n, 3) points.
+
+    The add-on's only plane fit; switch to bdinterp.Plane.fit(points) here once it is public.
+    """
+    centre = points.mean(axis=0)
+    return centre, np.linalg.svd(points - centre, full_matrices=False)[2][-1]
+
+
 def project_planar(shapes, names, rel_tol):
     """Project every shape onto the plane fitted to shapes[0]; BakeError if one misses it by
     more than rel_tol x size (bounding-box diagonal of shapes[0]), saying by how much.
@@ -63,8 +77,7 @@ def project_planar(shapes, names, rel_tol):
     exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
     """
     base = shapes[0]
-    centre = base.mean(axis=0)
-    normal = np.linalg.svd(base - centre, full_matrices=False)[2][-1]
+    centre, normal = fit_plane(base)
     size = float(np.linalg.norm(base.max(axis=0) - base.min(axis=0))) or 1.0
     tol = rel_tol * size
     bad, out = [], []
