@@ -143,7 +143,8 @@ def draw_result(layout, text, width):
         return
     box = layout.box()
     col = box.column(align=True)
-    col.label(text="Last bake: %s -> %s" % (r["source"], r["target"]), icon='INFO')
+    col.label(text="Last bake", icon='INFO')
+    col.label(text="%s -> %s" % (r["source"], r["target"]))
     col.label(text="Keys written: %d" % r["keys"])
     ok = r["max_distortion"] <= r["input_distortion"] * (1 + 1e-6)
     col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
@@ -161,8 +162,9 @@ class BDINTERP_PT_expert(_Panel, bpy.types.Panel):
 
     def draw(self, context):
         layout, props = self.layout, context.object.bdi
-        layout.use_property_split = True
-        layout.prop(props, "method", text="Method")
+        split = self.layout.split(factor=0.3)  # "Method" in full beside a wide drop-down
+        split.label(text="Method")
+        split.prop(props, "method", text="")
         layout.prop(props, "tolerance", text="Planarity")
 
 
@@ -181,7 +183,7 @@ class BDINTERP_PT_poses(_Panel, bpy.types.Panel):
             row.prop(item, "weight", text="Weight", slider=True)
             row.operator("bdinterp.pose_remove", text="", icon='X').index = i
         col.operator("bdinterp.pose_add", text="Add Active Key", icon='ADD')
-        layout.prop(props, "blend_name", text="Result Key")
+        layout.prop(props, "blend_name", text="Key")
         layout.operator("bdinterp.blend", icon='SHAPEKEY_DATA')
 
 

@@ -89,8 +89,10 @@ def test_panels_draw(addon, configure):
     names = {entry[1] for entry in log}
     assert {"source", "target", "count", "easing", "anchor", "bdinterp.bake"} <= names
     assert {"method", "tolerance"} <= names  # in the Expert sub-panel
-    # a label on every field (the Live header's checkbox is labelled by the panel's title)
-    unlabelled = [e[1] for e in log if e[0] == "text" and e[2] == "" and e[1] != "live"]
+    # a label on every field: its own text or a label just before it (the Live header's checkbox
+    # is labelled by the panel's title)
+    unlabelled = [e[1] for i, e in enumerate(log) if e[0] == "text" and e[2] == "" and e[1] != "live"
+                  and log[i - 2][0] != "label"]
     assert unlabelled == []
     labels = [e[1] for e in log if e[0] == "label"]
     if configure == "plain":
