@@ -13,7 +13,7 @@ computes everything before it touches the file, so an error (BakeError, a ValueE
 RuntimeError from the solver) leaves the object unchanged.
 """
 
-from . import mesh_io, playback, solve
+from . import baking, distortion, live, mesh_io, playback, solve
 from .baking import BakeJob, BakeResult, run, write_key
 from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
@@ -95,7 +95,6 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
     'GROUP' (with obj.bdi.anchor_vertex / anchor_group).  Everything is validated and the first
     result computed before any setting is written.  Returns the live key name (or None).
     """
-    from . import live
     if not hasattr(obj, "bdi"):
         raise BakeError("live mode needs the bdinterp add-on enabled (Preferences > Add-ons)")
     mesh_io.key_of(obj)
@@ -118,7 +117,6 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
 
 def _live_request(props, target, factor, items, source, anchor):
     """(live.Settings, values) that the settings would give once written."""
-    from . import live
     current = live.settings_of(props)
     mode = 'BLEND' if items is not None else ('INTERPOLATE' if target is not None else props.live_mode)
     resolved = solve.anchor_choice(props, anchor)
@@ -136,7 +134,6 @@ def _live_request(props, target, factor, items, source, anchor):
 
 
 def _write_live_settings(obj, target, factor, items, source, anchor):
-    from . import live
     props = obj.bdi
     with live.suspended():
         if source is not None:
@@ -162,7 +159,6 @@ def bake_live(obj, count=None):
     in-betweens at `count` evenly spaced factors (default: the panel's In-betweens), the live
     factor's keyframes or driver copied onto the slider; live mode is then switched off and the
     live key removed.  Returns the BakeResult."""
-    from . import baking
     return baking.bake_live(obj, count)
 
 
@@ -171,11 +167,9 @@ def show_distortion(obj, key=None, visible=True):
     relative key into face attribute 'bdi_distortion' and colour attribute
     'bdi_distortion_color' (blue: no worse than the inputs, red: worse); show it in the
     viewport. Returns the per-face distortion array."""
-    from . import distortion
     return distortion.write(obj, key, visible)
 
 
 def hide_distortion(obj=None):
     """Switch the viewports (and Workbench renders) back to material colours."""
-    from . import distortion
     distortion.set_visible(False, obj)

@@ -28,12 +28,18 @@ def test_driven_factor_updates_mesh(addon, bd):
     assert obj.bdi.live and not obj.bdi.live_error
 
 
-def test_fcurve_edit_updates_mesh_without_frame_change(addon, bd):
+def live_strip_keyframed(addon, last_frame):
+    """A strip in live mode whose factor is keyframed 0 (frame 1) -> 1 (last_frame)."""
     obj = bent_strip()
     addon.set_live(obj, target="Bend", factor=0.0)
     obj.keyframe_insert("bdi.live_factor", frame=1)
     obj.bdi.live_factor = 1.0
-    obj.keyframe_insert("bdi.live_factor", frame=11)
+    obj.keyframe_insert("bdi.live_factor", frame=last_frame)
+    return obj
+
+
+def test_fcurve_edit_updates_mesh_without_frame_change(addon, bd):
+    obj = live_strip_keyframed(addon, 11)
     bpy.context.scene.frame_set(6)
     fcurve = obj.animation_data.action.fcurves.find("bdi.live_factor")
     assert maxdiff(evaluated_co(obj), expected(bd, obj, fcurve.evaluate(6))) < TOL
@@ -90,11 +96,7 @@ def test_set_live_validates_before_writing(addon, kwargs, match):
 
 
 def test_bake_live_to_keys(addon, bd):
-    obj = bent_strip()
-    addon.set_live(obj, target="Bend", factor=0.0)
-    obj.keyframe_insert("bdi.live_factor", frame=1)
-    obj.bdi.live_factor = 1.0
-    obj.keyframe_insert("bdi.live_factor", frame=9)
+    obj = live_strip_keyframed(addon, 9)
     obj.bdi.count = 7
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.bdinterp.bake_live() == {'FINISHED'}
