@@ -112,3 +112,16 @@ def test_bake_live_to_keys(addon, bd):
     assert maxdiff(evaluated_co(obj), expected(bd, obj, 0.5)) < TOL
     result = __import__("json").loads(obj.bdi.result)
     assert result["keys"] == 7 and "keyframed like the live factor" in result["note"]
+
+
+def test_file_with_live_objects_warns_on_load(addon, tmp_path, capsys):
+    import os
+    obj = bent_strip()
+    addon.set_live(obj, target="Bend", factor=0.5)
+    path = os.path.join(str(tmp_path), "live.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    capsys.readouterr()
+    bpy.ops.wm.open_mainfile(filepath=path)
+    out = capsys.readouterr().out
+    assert "bdinterp: Strip in scene Scene needs the bdinterp add-on enabled" in out
+    assert "Bake Live to Keys" in out
