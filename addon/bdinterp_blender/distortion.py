@@ -9,17 +9,17 @@ whole mesh (the target's worst face) left every face but one blue on real data.
 """
 
 import bpy
-import numpy as np
 
 from . import mesh_io, solve, timing
 from .names import DISTORTION_ATTR as ATTR, DISTORTION_COLOR as COLOR, LIVE_KEY
 
-_LOW = np.array([0.15, 0.35, 1.0, 1.0])   # no worse than the inputs
-_HIGH = np.array([1.0, 0.1, 0.05, 1.0])   # twice the inputs' K (or collapsed)
+_LOW = (0.15, 0.35, 1.0, 1.0)   # no worse than the inputs
+_HIGH = (1.0, 0.1, 0.05, 1.0)   # twice the inputs' K (or collapsed)
 _RED_RATIO = 2.0
 
 
 def _per_polygon(k_tri, poly, n_poly):
+    import numpy as np
     out = np.ones(n_poly)
     np.maximum.at(out, poly, k_tri)
     return out
@@ -28,6 +28,7 @@ def _per_polygon(k_tri, poly, n_poly):
 def per_face(obj, key_name=None):
     """(K per polygon of the key, K per polygon of its inputs or None) for key `key_name`
     (default: the active key) against its relative key."""
+    import numpy as np
     key = mesh_io.key_of(obj)
     kb = key.key_blocks.get(key_name) if key_name else obj.active_shape_key
     if kb is None:
@@ -64,6 +65,7 @@ def _input_keys(obj, key, kb):
 
 def colors(k, k_in=None):
     """RGBA per face: k against k_in (per face), or against k's own largest finite value."""
+    import numpy as np
     if k_in is None:
         finite = k[np.isfinite(k)]
         t = np.clip((k - 1.0) / max((finite.max() if finite.size else 1.0) - 1.0, 1e-9), 0.0, 1.0)
@@ -71,10 +73,12 @@ def colors(k, k_in=None):
         ratio = k / np.maximum(k_in, 1.0)
         t = np.clip(np.log(np.maximum(ratio, 1.0) / (1.0 + 1e-6)) / np.log(_RED_RATIO), 0.0, 1.0)
     t[~np.isfinite(k)] = 1.0  # collapsed faces
-    return _LOW + t[:, None] * (_HIGH - _LOW)
+    low, high = np.array(_LOW), np.array(_HIGH)
+    return low + t[:, None] * (high - low)
 
 
 def write(obj, key_name=None, visible=True):
+    import numpy as np
     k_poly, k_in = per_face(obj, key_name)
     mesh = obj.data
     attr = mesh.attributes.get(ATTR)

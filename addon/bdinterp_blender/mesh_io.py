@@ -1,6 +1,7 @@
-"""Mesh and shape-key data <-> numpy (foreach_get/foreach_set; never per-vertex Python loops)."""
+"""Mesh and shape-key data <-> numpy (foreach_get/foreach_set; never per-vertex Python loops).
 
-import numpy as np
+numpy is imported inside the functions: enabling the add-on should not cost its import.
+"""
 
 
 class BakeError(ValueError):
@@ -30,16 +31,18 @@ def key_block(key, name):
 
 def read_raw(kb):
     """kb's coordinates as Blender stores them: float32 (n*3,)."""
+    import numpy as np
     co = np.empty(len(kb.data) * 3, dtype=np.float32)
     kb.data.foreach_get("co", co)
     return co
 
 
 def read_co(kb):
-    return read_raw(kb).reshape(-1, 3).astype(np.float64)
+    return read_raw(kb).reshape(-1, 3).astype(float)
 
 
 def write_co(kb, co):
+    import numpy as np
     kb.data.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
 
 
@@ -49,6 +52,7 @@ def triangles(mesh):
     Blender's loop triangles tessellate quads and (concave) n-gons; they are runtime data, so
     the mesh itself is not changed.
     """
+    import numpy as np
     mesh.calc_loop_triangles()
     m = len(mesh.loop_triangles)
     if m == 0:
@@ -65,6 +69,7 @@ def fit_plane(points):
 
     The add-on's only plane fit; switch to bdinterp.Plane.fit(points) here once it is public.
     """
+    import numpy as np
     centre = points.mean(axis=0)
     return centre, np.linalg.svd(points - centre, full_matrices=False)[2][-1]
 
@@ -76,6 +81,7 @@ def project_planar(shapes, names, rel_tol):
     Projecting here makes this (user-set) tolerance the one that counts: the core then sees
     exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
     """
+    import numpy as np
     base = shapes[0]
     centre, normal = fit_plane(base)
     size = float(np.linalg.norm(base.max(axis=0) - base.min(axis=0))) or 1.0

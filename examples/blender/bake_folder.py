@@ -34,9 +34,16 @@ def import_addon(folder=None):
         sys.path.insert(0, os.path.abspath(folder))
     try:
         import bdinterp_blender
+        return bdinterp_blender
     except ImportError:
-        sys.path.insert(0, os.path.join(ROOT, "addon"))
-        import bdinterp_blender
+        pass
+    import addon_utils  # Blender 4.2+: installed as an extension, bl_ext.<repo>.bdinterp_blender
+    names = [m.__name__ for m in addon_utils.modules() if m.__name__.split(".")[-1] == "bdinterp_blender"]
+    if names:
+        import importlib
+        return importlib.import_module(names[0])
+    sys.path.insert(0, os.path.join(ROOT, "addon"))
+    import bdinterp_blender
     return bdinterp_blender
 
 

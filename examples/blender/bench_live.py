@@ -26,7 +26,6 @@ import time
 import bpy
 import numpy as np
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 FRAMES = int(ARGS[ARGS.index("--frames") + 1]) if "--frames" in ARGS else 12
 # --threads N: the live Interpolator's threads (default: as the add-on makes it, all cores).  On a
@@ -37,13 +36,9 @@ SIDES = [int(x) for x in ARGS[ARGS.index("--sides") + 1].split(",")] if "--sides
 
 
 def enable_addon():
-    import addon_utils
-    if addon_utils.enable("bdinterp_blender", default_set=True, handle_error=lambda exc: None) is None:
-        sys.path.insert(0, os.path.join(ROOT, "addon"))
-        import bdinterp_blender
-        bdinterp_blender.register()
-    import bdinterp_blender
-    return bdinterp_blender
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import addon_loader
+    return addon_loader.enable()
 
 
 def strip(n_side):

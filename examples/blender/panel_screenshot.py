@@ -19,20 +19,15 @@ import traceback
 
 import bpy
 
-ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
 OUT = ARGS[ARGS.index("--out") + 1] if "--out" in ARGS else None
 calls, errors = {}, {}
 
 
 def enable_addon():
-    import addon_utils
-    if addon_utils.enable("bdinterp_blender", default_set=True, handle_error=lambda exc: None) is None:
-        sys.path.insert(0, os.path.join(ROOT, "addon"))  # not installed: the checkout's copy
-        import bdinterp_blender
-        bdinterp_blender.register()
-    import bdinterp_blender
-    return bdinterp_blender
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import addon_loader
+    return addon_loader.enable()
 
 
 def instrument(ui, open_all):

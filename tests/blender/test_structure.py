@@ -37,3 +37,15 @@ def test_modules_import_downwards_only():
                if isinstance(n, ast.Attribute) and n.attr.startswith("_") and not n.attr.startswith("__")
                and isinstance(n.value, ast.Name) and n.value.id in RANK]
     assert private == []
+
+
+def test_enabling_imports_neither_numpy_nor_the_core(addon):
+    """Heavy imports wait for the first bake/live frame (Blender itself starts without numpy)."""
+    from conftest import json_lines, run_blender
+    expr = ("import sys, json; sys.path.insert(0, %r); import addon_loader; a = addon_loader.enable(); "
+            "print('JSON:' + json.dumps({'numpy': 'numpy' in sys.modules, "
+            "'core': any(m.startswith('bdinterp.') or m == 'bdinterp' for m in sys.modules), "
+            "'enabled': hasattr(a, 'bake') and hasattr(__import__('bpy').types.Object, 'bdi')}))"
+            % os.path.join(ROOT, "examples", "blender"))
+    out = json_lines(run_blender(["--python-expr", expr], env_drop=()))[0]
+    assert out == {"numpy": False, "core": False, "enabled": True}

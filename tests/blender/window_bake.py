@@ -5,9 +5,13 @@ per timer event), once cancelled with Esc and once to the end, in a real window.
 Prints 'JSON:{...}' and quits."""
 
 import json
+import os
+import sys
 import traceback
 
 import bpy
+
+ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 result = {}
 
@@ -34,8 +38,9 @@ def view3d(window):
 
 
 def steps():
-    import addon_utils
-    addon_utils.enable("bdinterp_blender", default_set=True)
+    sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
+    import addon_loader
+    addon_loader.enable()
     window = bpy.context.window_manager.windows[0]
     area, region = view3d(window)
     obj = strip()
