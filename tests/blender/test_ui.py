@@ -133,3 +133,16 @@ def test_panel_without_shape_keys_explains(addon):
     bpy.ops.mesh.primitive_plane_add()
     log = draw_all(bpy.context)
     assert ("label", "Add at least two shape keys") in log
+
+
+def test_every_icon_in_the_source_exists_in_this_blender(addon):
+    """Also icons on paths the draw tests do not reach (degraded mode, preferences)."""
+    import os
+    import re
+    from conftest import ROOT
+    from bdinterp_blender import ui
+    src = open(os.path.join(ROOT, "addon", "bdinterp_blender", "ui.py"), encoding="utf-8").read()
+    used = set(re.findall(r"icon='([A-Z0-9_]+)'", src)) | set(re.findall(r"icon=\"([A-Z0-9_]+)\"", src))
+    assert used and used <= set(ui.ICONS), used - set(ui.ICONS)
+    assert set(ui.ICONS) <= ICONS, set(ui.ICONS) - ICONS
+    assert "MOD_SHAPEKEY" not in used  # not in Blender 3.4
