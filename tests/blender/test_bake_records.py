@@ -34,6 +34,23 @@ def test_slider_leaves_keyframed_target_alone(addon):
     assert "keyframes of its own" in json.loads(obj.bdi.result)["note"]
 
 
+def test_slider_leaves_driven_target_alone(addon):
+    obj = bent_strip()
+    obj["mine"] = 0.3
+    fc = obj.data.shape_keys.key_blocks["Bend"].driver_add("value")
+    var = fc.driver.variables.new()
+    var.name, var.targets[0].id_type = "m", 'OBJECT'
+    var.targets[0].id, var.targets[0].data_path = obj, '["mine"]'
+    fc.driver.expression = "m"
+    result = addon.bake(obj, target="Bend", count=2)
+    assert "driver of its own" in result.note
+    fc = obj.data.shape_keys.animation_data.drivers.find('key_blocks["Bend"].value')
+    assert fc.driver.expression == "m" and fc.driver.variables[0].targets[0].data_path == '["mine"]'
+    addon.clear(obj, "Bend")  # and clearing leaves it too
+    fc = obj.data.shape_keys.animation_data.drivers.find('key_blocks["Bend"].value')
+    assert fc is not None and fc.driver.expression == "m"
+
+
 def test_value_set_by_hand_is_kept(addon):
     obj = bent_strip()
     obj.data.shape_keys.key_blocks["Bend"].value = 0.4
