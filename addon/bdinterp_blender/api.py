@@ -155,10 +155,11 @@ def _write_live_settings(obj, target, factor, items, source, anchor):
 
 
 def bake_live(obj, count=None):
-    """Bake obj's live interpolation into keys + a playback slider that plays without the add-on:
-    in-betweens at `count` evenly spaced factors (default: the panel's In-betweens), the live
-    factor's keyframes or driver copied onto the slider; live mode is then switched off and the
-    live key removed.  Returns the BakeResult."""
+    """Bake obj's live mode into keys that play without the add-on, then switch it off and remove
+    the live key.  Live interpolation: in-betweens at `count` evenly spaced factors (default: the
+    panel's In-betweens) and the playback slider with the live factor's keyframes or driver
+    copied onto it.  Live pose blend: one key per distinct set of weights over the scene's frame
+    range, keyframed (constant) to show on its frames.  Returns the BakeResult."""
     return baking.bake_live(obj, count)
 
 

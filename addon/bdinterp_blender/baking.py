@@ -170,13 +170,13 @@ def _factor_curve(obj):
 
 
 def bake_live(obj, count=None):
-    """See api.bake_live: live interpolation -> in-betweens + slider animated like the factor."""
+    """See api.bake_live: live interpolation -> in-betweens + slider animated like the factor;
+    live pose blend -> one key per distinct set of weights in the scene's frame range."""
     props = getattr(obj, "bdi", None)
     if props is None or not props.live:
         raise mesh_io.BakeError("%s is not in live mode" % getattr(obj, "name", "No object"))
-    if props.live_mode != 'INTERPOLATE':
-        raise mesh_io.BakeError("%s: Bake Live to Keys bakes live interpolation; bake a live pose "
-                                "blend with Bake Pose Blend" % obj.name)
+    if props.live_mode == 'BLEND':
+        return _bake_live_blend(obj, props)
     job = BakeJob(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
                   solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True)
     kind, curve = _factor_curve(obj)
@@ -191,13 +191,77 @@ def bake_live(obj, count=None):
         if old is not None:
             obj.animation_data.action.fcurves.remove(old)
         _copy_fcurve(curve, obj.animation_data.action.fcurves.new(path))
-    props.live = False
-    key = obj.data.shape_keys
-    if key.key_blocks.get(LIVE_KEY) is not None:
-        obj.shape_key_remove(key.key_blocks[LIVE_KEY])
+    _live_off(obj)
     result.note = (result.note + "; " if result.note else "") + (
         "the slider %r plays it (%s)" % (result.slider, {"driver": "driven like the live factor",
                                                           "action": "keyframed like the live factor"}
                                          .get(kind, "set to the live factor")))
     _store_result(obj, result.summary())
     return result
+
+
+def _live_off(obj):
+    obj.bdi.live = False
+    key = obj.data.shape_keys
+    if key.key_blocks.get(LIVE_KEY) is not None:
+        obj.shape_key_remove(key.key_blocks[LIVE_KEY])
+
+
+def _weights_per_frame(obj, props, frames):
+    """The live pose weights at each frame (from their keyframes; constant ones as they are)."""
+    anim = obj.animation_data
+    paths = ["bdi.poses[%d].weight" % i for i in range(len(props.poses))]
+    if anim is not None and any(anim.drivers.find(p) for p in paths):
+        raise mesh_io.BakeError("%s: driven pose weights cannot be baked to keys; keyframe them"
+                                % obj.name)
+    curves = [anim.action.fcurves.find(p) if anim is not None and anim.action else None for p in paths]
+    return [tuple(c.evaluate(f) if c is not None else p.weight for c, p in zip(curves, props.poses))
+            for f in frames]
+
+
+def _bake_live_blend(obj, props):
+    """One key 'bdi.live.<first frame>' per distinct set of weights over the scene's frames,
+    keyframed (constant) to 1 on its frames and 0 elsewhere: plays without the add-on."""
+    import bpy
+    started, scene = time.perf_counter(), bpy.context.scene
+    frames = list(range(scene.frame_start, scene.frame_end + 1))
+    per_frame = _weights_per_frame(obj, props, frames)
+    distinct = sorted(set(per_frame), key=per_frame.index)
+    inp = Inputs(obj, props.source or None, [p.key for p in props.poses], solve.anchor_choice(props),
+                 None, props.tolerance)
+    solver = inp.interpolator()
+    shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
+              for w in distinct]
+    k_out = max_distortion(inp.shapes[0], shapes, inp.faces)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    folded = solve.folded_polygons(inp, shapes)
+    # --- everything computed; from here on the file is modified ---
+    source, key = inp.source.name, obj.data.shape_keys
+    for kb in [kb for kb in key.key_blocks if kb.name.startswith(LIVE_KEY + ".")]:
+        obj.shape_key_remove(kb)
+    names = []
+    for w, co in zip(distinct, shapes):
+        name = write_key(obj, "%s.%04d" % (LIVE_KEY, frames[per_frame.index(w)]), source, co)
+        _keyframe_steps(key.key_blocks[name], frames, [1.0 if pw == w else 0.0 for pw in per_frame])
+        names.append(name)
+    _live_off(obj)
+    result = BakeResult(keys=names, factors=[], positions=[], source=source, target="pose blend",
+                        slider=None, max_distortion=k_out, input_distortion=k_in, folded=folded,
+                        seconds=time.perf_counter() - started,
+                        note="one key per distinct set of weights over frames %d-%d, keyframed"
+                        % (frames[0], frames[-1]))
+    _store_result(obj, result.summary())
+    return result
+
+
+def _keyframe_steps(kb, frames, values):
+    """Constant keyframes of kb.value: one at the first frame and wherever the value changes."""
+    last = None
+    for f, v in zip(frames, values):
+        if v != last:
+            kb.value = v
+            kb.keyframe_insert("value", frame=f)
+            last = v
+    path = kb.path_from_id("value")
+    for kp in kb.id_data.animation_data.action.fcurves.find(path).keyframe_points:
+        kp.interpolation = 'CONSTANT'

@@ -125,3 +125,27 @@ def test_file_with_live_objects_warns_on_load(addon, tmp_path, capsys):
     out = capsys.readouterr().out
     assert "bdinterp: Strip in scene Scene needs the bdinterp add-on enabled" in out
     assert "Bake Live to Keys" in out
+
+
+def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
+    from conftest import add_key
+    obj = bent_strip()
+    add_key(obj, "Long", read_key(obj, "Basis") * [1.4, 1.0, 1.0])
+    addon.set_live(obj, weights={"Bend": 0.0, "Long": 0.0})
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 6
+    poses = obj.bdi.poses
+    for frame, (a, b) in {1: (0.0, 0.0), 4: (0.6, 0.3)}.items():
+        poses[0].weight, poses[1].weight = a, b
+        obj.keyframe_insert("bdi.poses[0].weight", frame=frame)
+        obj.keyframe_insert("bdi.poses[1].weight", frame=frame)
+    curves = [obj.animation_data.action.fcurves.find("bdi.poses[%d].weight" % i) for i in (0, 1)]
+    expected_w = {f: (curves[0].evaluate(f), curves[1].evaluate(f)) for f in range(1, 7)}
+    result = addon.bake_live(obj)
+    assert not obj.bdi.live and "bdi.live" not in key_names(obj)
+    assert len(result.keys) == len(set(expected_w.values())) == 4  # frames 4-6 share their weights
+    shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long")]
+    for frame, (a, b) in expected_w.items():
+        scene.frame_set(frame)
+        w = [1 - a - b, a, b]
+        assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
