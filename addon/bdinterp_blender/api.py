@@ -99,14 +99,14 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
         raise BakeError("live mode needs the bdinterp add-on enabled (Preferences > Add-ons)")
     mesh_io.key_of(obj)
     props = obj.bdi
-    items = list(weights.items() if hasattr(weights, "items") else weights) if weights is not None else None
+    items = None if weights is None else list(weights.items() if hasattr(weights, "items") else weights)
     if items is not None:
         pose_weights(items)  # weights >= 0
+    settings, values = _live_request(props, target, factor, items, source, anchor)  # anchor valid
     if not enable:
         _write_live_settings(obj, target, factor, items, source, anchor)
         props.live = False
         return None
-    settings, values = _live_request(props, target, factor, items, source, anchor)
     state = live.prepare(obj, settings)
     result = live.compute(state, values)
     # --- validated and computed; from here on the file is modified ---
@@ -117,20 +117,17 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
 
 def _live_request(props, target, factor, items, source, anchor):
     """(live.Settings, values) that the settings would give once written."""
-    current = live.settings_of(props)
     mode = 'BLEND' if items is not None else ('INTERPOLATE' if target is not None else props.live_mode)
-    resolved = solve.anchor_choice(props, anchor)
-    poses = tuple(n for n, _ in items) if items is not None else (current.poses if mode == 'BLEND' else ())
-    if mode == 'BLEND' and items is None:
-        poses = tuple(p.key for p in props.poses)
-    settings = current._replace(mode=mode, source=props.source if source is None else source,
-                                target=props.target if target is None else target, poses=poses,
-                                anchor=resolved)
+    if items is None:
+        items = [(p.key, p.weight) for p in props.poses]
+    settings = live.settings_of(props)._replace(
+        mode=mode, source=props.source if source is None else source,
+        target=props.target if target is None else target,
+        poses=tuple(name for name, _ in items) if mode == 'BLEND' else (),
+        anchor=solve.anchor_choice(props, anchor))
     if mode == 'BLEND':
-        values = tuple(float(w) for _, w in items) if items is not None else tuple(p.weight for p in props.poses)
-    else:
-        values = (float(props.live_factor if factor is None else factor),)
-    return settings, values
+        return settings, tuple(float(w) for _, w in items)
+    return settings, (float(props.live_factor if factor is None else factor),)
 
 
 def _write_live_settings(obj, target, factor, items, source, anchor):

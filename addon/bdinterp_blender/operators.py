@@ -231,8 +231,8 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend, BDINTERP_OT_pose_add,
-           BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
+CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
+           BDINTERP_OT_pose_add, BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
            BDINTERP_OT_easing_curve_new)
 
 
