@@ -13,6 +13,8 @@ computes everything before it touches the file, so an error (BakeError, a ValueE
 RuntimeError from the solver) leaves the object unchanged.
 """
 
+import time
+
 from . import baking, distortion, live, mesh_io, playback, solve
 from .baking import BakeJob, BakeResult, run, write_key
 from .mesh_io import BakeError
@@ -70,12 +72,19 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
     weights: {pose key name: weight}; see pose_weights() for how the source's weight follows.
     Returns (key name, max distortion of the blend, max distortion of the poses).
     """
+    started = time.perf_counter()
     names, ws = pose_weights(weights)
     inp = Inputs(obj, source, names, anchor, None, tolerance)
     result = solve.blend_shape(inp, ws)
     k_out = max_distortion(inp.shapes[0], [result], inp.faces)
     k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
-    return write_key(obj, name, inp.source.name, result), k_out, k_in
+    folded = solve.folded_polygons(inp, [result])
+    written = write_key(obj, name, inp.source.name, result)
+    baking.store_result(obj, BakeResult(
+        keys=[written], source=inp.source.name, target="blend of " + ", ".join(names),
+        max_distortion=k_out, input_distortion=k_in, folded=folded,
+        seconds=time.perf_counter() - started).summary())
+    return written, k_out, k_in
 
 
 def clear(obj, target, source=None):

@@ -101,11 +101,12 @@ class BakeJob:
                             source=src_name, target=tgt_name, slider=slider, max_distortion=k_out,
                             input_distortion=k_in, folded=folded, note=note,
                             seconds=time.perf_counter() - self.started)
-        _store_result(obj, result.summary())
+        store_result(obj, result.summary())
         return result
 
 
-def _store_result(obj, summary):
+def store_result(obj, summary):
+    """Keep a bake's summary for the panel's result box (Object.bdi.result, JSON)."""
     if hasattr(obj, "bdi"):  # the settings exist only while the add-on is registered
         obj.bdi.result = json.dumps(summary)
 
@@ -196,7 +197,7 @@ def bake_live(obj, count=None):
         "the slider %r plays it (%s)" % (result.slider, {"driver": "driven like the live factor",
                                                           "action": "keyframed like the live factor"}
                                          .get(kind, "set to the live factor")))
-    _store_result(obj, result.summary())
+    store_result(obj, result.summary())
     return result
 
 
@@ -250,7 +251,7 @@ def _bake_live_blend(obj, props):
                         seconds=time.perf_counter() - started,
                         note="one key per distinct set of weights over frames %d-%d, keyframed"
                         % (frames[0], frames[-1]))
-    _store_result(obj, result.summary())
+    store_result(obj, result.summary())
     return result
 
 
