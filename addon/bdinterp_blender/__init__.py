@@ -7,6 +7,13 @@ writes) -> playback, live, distortion, baking (each writes one kind of thing) ->
 scripting facade) -> properties, operators -> ui -> this file (registration).
 """
 
+if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
+    import importlib
+    for _name in ("core", "names", "timing", "mesh_io", "solve", "playback", "live", "distortion",
+                  "baking", "api", "properties", "operators", "ui"):
+        if _name in locals():
+            importlib.reload(locals()[_name])
+
 bl_info = {
     "name": "bdinterp: Bounded-Distortion In-betweens",
     "author": "bdinterp developers",
@@ -20,21 +27,14 @@ bl_info = {
 
 import sys
 
-if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
-    import importlib
-    for _name in ("core", "names", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "api", "properties", "operators", "ui"):
-        if _name in locals():
-            importlib.reload(locals()[_name])
-
 # Scripting name: as an extension (Blender 4.2+) this package is imported as
 # bl_ext.<repo>.bdinterp_blender, but scripts should be able to write `import bdinterp_blender`.
 sys.modules.setdefault("bdinterp_blender", sys.modules[__name__])
 
 from .core import build_info, core_status, load_core  # noqa: E402
-from . import api  # noqa: E402
-from .api import (bake, bake_live, blend, clear, compute_frames, set_live,  # noqa: E402
-                  hide_distortion, show_distortion, BakeError)
+from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
+                  show_distortion, BakeError)
+from .api import bake_live  # noqa: E402
 
 __all__ = ["bake", "bake_live", "blend", "clear", "compute_frames", "set_live", "show_distortion",
            "hide_distortion", "BakeError", "load_core", "core_status", "build_info"]
