@@ -39,9 +39,8 @@ def import_addon(folder=None):
         pass
     import addon_utils  # Blender 4.2+: installed as an extension, bl_ext.<repo>.bdinterp_blender
     names = [m.__name__ for m in addon_utils.modules() if m.__name__.split(".")[-1] == "bdinterp_blender"]
-    if names:
-        import importlib
-        return importlib.import_module(names[0])
+    if names and addon_utils.enable(names[0], default_set=False, handle_error=lambda exc: None):
+        return sys.modules[names[0]]
     sys.path.insert(0, os.path.join(ROOT, "addon"))
     import bdinterp_blender
     return bdinterp_blender
