@@ -1,7 +1,18 @@
 """bdinterp for Blender: bounded-distortion in-betweens for planar meshes with shape keys.
 
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
+
+Modules import one way: core (loader) -> names, timing, mesh_io -> solve (shapes -> frames, no
+writes) -> playback, live, distortion, baking (each writes one kind of thing) -> api (the
+scripting facade) -> properties, operators -> ui -> this file (registration).
 """
+
+if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
+    import importlib
+    for _name in ("core", "names", "timing", "mesh_io", "solve", "playback", "live", "distortion",
+                  "baking", "api", "properties", "operators", "ui"):
+        if _name in locals():
+            importlib.reload(locals()[_name])
 
 bl_info = {
     "name": "bdinterp: Bounded-Distortion In-betweens",
@@ -25,8 +36,9 @@ from .core import alias_package, build_info, core_status, load_core  # noqa: E40
 alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
+from .api import bake_live  # noqa: E402
 
-__all__ = ["bake", "blend", "clear", "compute_frames", "set_live", "show_distortion",
+__all__ = ["bake", "bake_live", "blend", "clear", "compute_frames", "set_live", "show_distortion",
            "hide_distortion", "BakeError", "load_core", "core_status", "build_info"]
 
 _modules = []

@@ -1,6 +1,7 @@
-"""Mesh and shape-key data <-> numpy (foreach_get/foreach_set; never per-vertex Python loops)."""
+"""Mesh and shape-key data <-> numpy (foreach_get/foreach_set; never per-vertex Python loops).
 
-import numpy as np
+numpy is imported inside the functions: enabling the add-on should not cost its import.
+"""
 
 
 class BakeError(ValueError):
@@ -28,13 +29,20 @@ def key_block(key, name):
     return kb
 
 
-def read_co(kb):
+def read_raw(kb):
+    """kb's coordinates as Blender stores them: float32 (n*3,)."""
+    import numpy as np
     co = np.empty(len(kb.data) * 3, dtype=np.float32)
     kb.data.foreach_get("co", co)
-    return co.reshape(-1, 3).astype(np.float64)
+    return co
+
+
+def read_co(kb):
+    return read_raw(kb).reshape(-1, 3).astype(float)
 
 
 def write_co(kb, co):
+    import numpy as np
     kb.data.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
 
 
@@ -44,6 +52,7 @@ def triangles(mesh):
     Blender's loop triangles tessellate quads and (concave) n-gons; they are runtime data, so
     the mesh itself is not changed.
     """
+    import numpy as np
     mesh.calc_loop_triangles()
     m = len(mesh.loop_triangles)
     if m == 0:
@@ -55,6 +64,16 @@ def triangles(mesh):
     return faces.reshape(-1, 3).astype(np.int64), poly.astype(np.int64)
 
 
+def fit_plane(points):
+    """(centre, unit normal) of the least-squares plane of (n, 3) points.
+
+    The add-on's only plane fit; switch to bdinterp.Plane.fit(points) here once it is public.
+    """
+    import numpy as np
+    centre = points.mean(axis=0)
+    return centre, np.linalg.svd(points - centre, full_matrices=False)[2][-1]
+
+
 def project_planar(shapes, names, rel_tol):
     """Project every shape onto the plane fitted to shapes[0]; BakeError if one misses it by
     more than rel_tol x size (bounding-box diagonal of shapes[0]), saying by how much.
@@ -62,9 +81,9 @@ def project_planar(shapes, names, rel_tol):
     Projecting here makes this (user-set) tolerance the one that counts: the core then sees
     exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
     """
+    import numpy as np
     base = shapes[0]
-    centre = base.mean(axis=0)
-    normal = np.linalg.svd(base - centre, full_matrices=False)[2][-1]
+    centre, normal = fit_plane(base)
     size = float(np.linalg.norm(base.max(axis=0) - base.min(axis=0))) or 1.0
     tol = rel_tol * size
     bad, out = [], []

@@ -26,7 +26,8 @@ def easing_of(props):
 
 
 def anchor_of(props):
-    return {'AUTO': "AUTO", 'VERTEX': props.anchor_vertex, 'GROUP': props.anchor_group}[props.anchor]
+    from .solve import anchor_choice
+    return anchor_choice(props)
 
 
 def bake_settings(props):
@@ -64,19 +65,70 @@ class _ObjectOperator:
 
 
 class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
-    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys"""
+    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
+    (Esc cancels; nothing is written until the last in-between is computed)"""
     bl_idname = "bdinterp.bake"
     bl_label = "Bake In-betweens"
 
-    def run(self, context, obj):
+    def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
-        kw = bake_settings(obj.bdi)
-        wm.progress_begin(0, kw.get("count") or len(kw.get("factors") or ()) or 1)
+        job = api.BakeJob(obj, **bake_settings(obj.bdi))
+        wm.progress_begin(0, job.total)
         try:
-            result = api.bake(obj, progress=lambda done, total: wm.progress_update(done), **kw)
+            while not job.finished:
+                wm.progress_update(job.step())
+            return job.finish().message
         finally:
             wm.progress_end()
-        return result.message
+
+    def invoke(self, context, event):
+        """From the UI: one chunk of frames per timer event, with progress, Esc cancels."""
+        try:
+            self._job = api.BakeJob(context.object, **bake_settings(context.object.bdi))
+        except (ValueError, RuntimeError) as exc:
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        wm = context.window_manager
+        wm.progress_begin(0, self._job.total)
+        self._timer = wm.event_timer_add(0.001, window=context.window)
+        wm.modal_handler_add(self)
+        return {'RUNNING_MODAL'}
+
+    def _stop(self, context):
+        wm = context.window_manager
+        wm.event_timer_remove(self._timer)
+        wm.progress_end()
+
+    def modal(self, context, event):
+        if event.type == 'ESC':
+            self._stop(context)
+            self.report({'WARNING'}, "Bake cancelled after %d of %d in-betweens: nothing written"
+                        % (self._job.job.done, self._job.total))
+            return {'CANCELLED'}
+        if event.type != 'TIMER':
+            return {'RUNNING_MODAL'}  # keep the file as it is until the bake is written
+        try:
+            context.window_manager.progress_update(self._job.step())
+            if not self._job.finished:
+                return {'RUNNING_MODAL'}
+            message = self._job.finish().message
+        except (ValueError, RuntimeError) as exc:
+            self._stop(context)
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        self._stop(context)
+        self.report({'INFO'}, message)
+        return {'FINISHED'}
+
+
+class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
+    """Turn live mode into baked in-between keys and a playback slider animated like the live
+    factor, so that the file plays and renders without the add-on"""
+    bl_idname = "bdinterp.bake_live"
+    bl_label = "Bake Live to Keys"
+
+    def run(self, context, obj):
+        return api.bake_live(obj).message
 
 
 class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
@@ -179,8 +231,8 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_clear, BDINTERP_OT_blend, BDINTERP_OT_pose_add,
-           BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
+CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
+           BDINTERP_OT_pose_add, BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
            BDINTERP_OT_easing_curve_new)
 
 

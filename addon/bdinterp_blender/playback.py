@@ -1,21 +1,68 @@
 """Native-driver playback of a bake, so a baked .blend plays without the add-on.
 
 One custom property on the object (the slider, 0..1) drives every baked key of a
-source -> target pair with piecewise-linear 'tent' weights (see timing.tent_expressions).
+source -> target pair with piecewise-linear 'tent' weights (see timing.tent_expressions).  Each
+bake is recorded in the object's custom property names.BAKES_PROP (slider -> source, target,
+keys, a signature of the target's data), so that it is found again after the target key is
+renamed, and reported stale after the target is edited.
 """
 
+import hashlib
+
 from . import timing
+from .names import BAKES_PROP, SLIDER_SUFFIX
 
 
 def slider_name(key, source, target):
     """'<target>.bdi' for the usual source = reference key, else '<source>><target>.bdi'."""
     if source == key.reference_key.name:
-        return target + ".bdi"
-    return "%s>%s.bdi" % (source, target)
+        return target + SLIDER_SUFFIX
+    return "%s>%s%s" % (source, target, SLIDER_SUFFIX)
 
 
 def _prop_path(prop):
     return '["%s"]' % prop.replace("\\", "\\\\").replace('"', '\\"')
+
+
+def signature(kb):
+    """Short hash of a key's coordinates (float32 as stored)."""
+    from .mesh_io import read_raw
+    return hashlib.sha1(read_raw(kb).tobytes()).hexdigest()[:16]
+
+
+def records(obj):
+    """{slider: {'source', 'target', 'keys', 'end', 'signature'}} of obj's bakes (plain dicts)."""
+    stored = obj.get(BAKES_PROP)
+    return {} if stored is None else stored.to_dict()
+
+
+class Found:
+    """A bake of source -> target: slider, keys, end key, and 'renamed'/'stale'/'' status."""
+
+    def __init__(self, slider, record, status):
+        self.slider, self.record, self.status = slider, record, status
+        self.keys = list(record.get("keys", ()))
+        self.end = record.get("end") or None
+
+
+def find(obj, source, target):
+    """The recorded bake of source -> target, or None.  Matched by names first; else a bake whose
+    target key no longer exists but whose signature equals `target`'s data (it was renamed)."""
+    key = obj.data.shape_keys
+    tgt = key.key_blocks.get(target) if key else None
+    if tgt is None:
+        return None
+    recs = records(obj)
+    for slider, rec in recs.items():
+        if rec.get("source") == source and rec.get("target") == target:
+            return Found(slider, rec, "" if rec.get("signature") == signature(tgt) else "stale")
+    sig = None
+    for slider, rec in recs.items():
+        if rec.get("source") == source and rec.get("target") not in key.key_blocks:
+            sig = sig or signature(tgt)
+            if rec.get("signature") == sig:
+                return Found(slider, rec, "renamed")
+    return None
 
 
 def baked_keys(key, source, target):
@@ -38,20 +85,37 @@ def _drive(kb, obj, prop, expr):
     driver.expression = expr
 
 
+def _driver_of(kb):
+    anim = kb.id_data.animation_data
+    return anim.drivers.find(kb.path_from_id("value")) if anim else None
+
+
 def _driven_by(kb, obj, prop):
     """True if kb.value has a driver reading our slider (so it is ours to remove)."""
-    anim = kb.id_data.animation_data
-    if anim is None:
-        return False
-    fc = anim.drivers.find(kb.path_from_id("value"))
+    fc = _driver_of(kb)
     return fc is not None and any(t.id == obj and t.data_path == _prop_path(prop)
                                   for v in fc.driver.variables for t in v.targets)
 
 
-def install(obj, source, target, names, positions, end=None):
-    """Drive keys `names` (at slider `positions`) and the target (or `end`); return the slider."""
+def own_animation(obj, kb, prop):
+    """Why the slider must not take over kb's value ('' if it may): keyframes, a driver that is
+    not ours, or a value set by hand."""
+    anim = kb.id_data.animation_data
+    path = kb.path_from_id("value")
+    if anim and anim.action and anim.action.fcurves.find(path):
+        return "key %r has keyframes of its own" % kb.name
+    if _driver_of(kb) is not None and not _driven_by(kb, obj, prop):
+        return "key %r has a driver of its own" % kb.name
+    if kb.value != 0.0 and not _driven_by(kb, obj, prop):
+        return "key %r has a value set by hand (%.3g)" % (kb.name, kb.value)
+    return ""
+
+
+def install(obj, source, target, names, positions, end=None, signature_="", slider=None):
+    """Drive keys `names` (at slider `positions`) and the target (or `end`) from the custom
+    property `slider` (default slider_name()); record the bake; return the slider's name."""
     key = obj.data.shape_keys
-    prop = slider_name(key, source, target)
+    prop = slider or slider_name(key, source, target)
     if prop not in obj.keys():
         obj[prop] = 0.0
     obj.id_properties_ui(prop).update(
@@ -61,27 +125,40 @@ def install(obj, source, target, names, positions, end=None):
     for name, expr in zip(names, exprs):
         _drive(key.key_blocks[name], obj, prop, expr)
     _drive(key.key_blocks[end or target], obj, prop, last)
+    record(obj, prop, source, target, names, end, signature_)
     return prop
 
 
-def remove(obj, source, target, keep_slider=True):
-    """Remove the bake of source -> target (keys, drivers; the slider unless keep_slider).
+def record(obj, slider, source, target, keys, end=None, signature_=""):
+    recs = records(obj)
+    recs[slider] = {"source": source, "target": target, "keys": list(keys), "end": end or "",
+                    "signature": signature_}
+    obj[BAKES_PROP] = recs
 
-    Returns the names of the removed keys.
-    """
+
+def remove(obj, source, target, keep_slider=True):
+    """Remove the bake of source -> target (keys, drivers, record; the slider unless keep_slider),
+    also when the target was renamed since.  Returns the names of the removed keys."""
     key = obj.data.shape_keys
     if key is None:
         return []
-    prop = slider_name(key, source, target)
+    found = find(obj, source, target)
+    prop = found.slider if found else slider_name(key, source, target)
     tgt = key.key_blocks.get(target)
     if tgt is not None and _driven_by(tgt, obj, prop):
         tgt.driver_remove("value")
         tgt.value = 0.0
+    names = set(found.keys + ([found.end] if found.end else [])) if found else set()
+    names |= {kb.name for kb in baked_keys(key, source, target)}
     removed = []
-    for kb in baked_keys(key, source, target):
+    for name in [kb.name for kb in key.key_blocks if kb.name in names]:
+        kb = key.key_blocks[name]
         kb.driver_remove("value")
-        removed.append(kb.name)
+        removed.append(name)
         obj.shape_key_remove(kb)
+    recs = records(obj)
+    if recs.pop(prop, None) is not None:
+        obj[BAKES_PROP] = recs
     if not keep_slider and prop in obj.keys():
         del obj[prop]
     return removed

@@ -4,6 +4,8 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        IntProperty, PointerProperty, StringProperty)
 
+from .names import DEFAULT_TOLERANCE
+
 EASING_ITEMS = [
     ('LINEAR', "Linear", "Evenly spaced in-betweens"),
     ('EASE_IN', "Ease In", "Slow start"),
@@ -59,8 +61,10 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                                  poll=lambda self, obj: obj.type == 'CURVE',
                                  description="Optional curve whose path the anchor follows")
     method: EnumProperty(name="Method", items=METHOD_ITEMS, default='bdi', update=_live_changed)
-    tolerance: FloatProperty(name="Planarity Tolerance", min=0.0, default=1e-4, precision=6,
-                             description="Allowed distance from the plane, relative to mesh size")
+    tolerance: FloatProperty(name="Planarity", min=0.0, default=DEFAULT_TOLERANCE, precision=6,
+                             update=_live_changed,
+                             description="Allowed distance of a key from the plane, relative to "
+                                         "the mesh size")
     drivers: BoolProperty(name="Playback Slider", default=True,
                           description="Drive the baked keys from one slider with native drivers")
     poses: CollectionProperty(type=BDI_PoseItem)
@@ -73,6 +77,7 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
     live_factor: FloatProperty(name="Factor", default=0.5, soft_min=0.0, soft_max=1.0,
                                update=_live_changed, description="Keyframe to animate")
     live_error: StringProperty(name="Live Error")
+    result: StringProperty(name="Last Result", description="Summary of the last bake (JSON)")
     distortion_visible: BoolProperty(name="Distortion Shown", default=False)
 
 

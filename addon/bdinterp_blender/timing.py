@@ -5,14 +5,14 @@ count) and its *factor* t = easing(position), the interpolation parameter it is 
 Pure Python (no bpy), so it is cheap to import and easy to test.
 """
 
+from .names import SEP  # key names: <target>.bdi.<factor in percent>
+
 EASINGS = {
     "LINEAR": lambda u: u,
     "EASE_IN": lambda u: u * u,                      # slow start
     "EASE_OUT": lambda u: 1.0 - (1.0 - u) ** 2,      # slow end
     "EASE_IN_OUT": lambda u: u * u * (3.0 - 2.0 * u),  # smoothstep
 }
-
-SEP = ".bdi."  # key names: <target>.bdi.<factor in percent>
 
 
 def parse_factors(text):

@@ -1,25 +1,43 @@
-"""Sidebar panel: 3D View > Sidebar (N) > bdinterp."""
+"""Sidebar panel: 3D View > Sidebar (N) > bdinterp.
 
+Icons are ones Blender has from 3.4 through 5.x (tests/blender/test_ui.py checks each against
+the running Blender's icon list); text wraps to the region's width.
+"""
+
+import json
 import textwrap
 
 import bpy
 
+from .names import LIVE_WARNING
+
 CORE_ERROR = ""  # set by __init__.register when the compiled core does not match this Blender
+
+
+def wrap_width(context, fallback=48):
+    """Characters per line that fit the region (~7 px a character at UI scale 1)."""
+    region = getattr(context, "region", None)
+    if region is None or region.width <= 1:
+        return fallback
+    return max(16, int((region.width - 40) / (7.0 * context.preferences.view.ui_scale)))
 
 
 def draw_message(layout, text, icon='ERROR', width=48):
     col = layout.column(align=True)
-    for i, line in enumerate(textwrap.wrap(text, width)):
+    for i, line in enumerate(textwrap.wrap(text, max(8, width))):
         col.label(text=line, icon=icon if i == 0 else 'BLANK1')
 
 
-def _pair_slider(obj):
-    from . import playback
+def _source_name(obj):
     key = obj.data.shape_keys
-    if not obj.bdi.target or key.key_blocks.get(obj.bdi.source or key.reference_key.name) is None:
+    return obj.bdi.source or key.reference_key.name
+
+
+def _bake_of(obj):
+    from . import playback
+    if not obj.bdi.target or obj.data.shape_keys.key_blocks.get(_source_name(obj)) is None:
         return None
-    prop = playback.slider_name(key, obj.bdi.source or key.reference_key.name, obj.bdi.target)
-    return prop if prop in obj.keys() else None
+    return playback.find(obj, _source_name(obj), obj.bdi.target)
 
 
 class _Panel:
@@ -30,8 +48,8 @@ class _Panel:
     @classmethod
     def poll(cls, context):
         obj = context.object
-        return (obj is not None and obj.type == 'MESH' and obj.data.shape_keys is not None
-                and len(obj.data.shape_keys.key_blocks) >= 2)
+        return (not CORE_ERROR and obj is not None and obj.type == 'MESH'
+                and obj.data.shape_keys is not None and len(obj.data.shape_keys.key_blocks) >= 2)
 
 
 class BDINTERP_PT_main(_Panel, bpy.types.Panel):
@@ -44,7 +62,7 @@ class BDINTERP_PT_main(_Panel, bpy.types.Panel):
     def draw(self, context):
         layout, obj = self.layout, context.object
         if CORE_ERROR:
-            draw_message(layout, CORE_ERROR)
+            draw_message(layout, CORE_ERROR, width=wrap_width(context))
             return
         if obj is None or obj.type != 'MESH':
             layout.label(text="Select a planar mesh with shape keys", icon='INFO')
@@ -56,8 +74,12 @@ class BDINTERP_PT_main(_Panel, bpy.types.Panel):
         props = obj.bdi
         col = layout.column(align=True)
         col.prop_search(props, "source", key, "key_blocks", text="Source")
+        if not props.source:
+            col.label(text="Empty: %s (reference)" % key.reference_key.name, icon='BLANK1')
         col.prop_search(props, "target", key, "key_blocks", text="Target")
-        layout.prop(props, "method", text="")
+        if props.live:
+            draw_message(layout, "Live: %s %s" % (obj.name, LIVE_WARNING), icon='INFO',
+                         width=wrap_width(context))
 
 
 class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
@@ -67,11 +89,10 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
     def draw(self, context):
         layout, obj = self.layout, context.object
         props = obj.bdi
-        row = layout.row(align=True)
-        row.prop(props, "use_factors", text="", icon='LINENUMBERS_ON')
-        row.prop(props, "factors" if props.use_factors else "count")
+        layout.prop(props, "use_factors", text="Explicit Factors")
+        layout.prop(props, "factors" if props.use_factors else "count")
         if not props.use_factors:
-            layout.prop(props, "easing")
+            layout.prop(props, "easing", text="Easing")
             if props.easing == 'CUSTOM':
                 node = props.easing_curve.nodes.get("Easing") if props.easing_curve else None
                 if node is None:
@@ -79,23 +100,72 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
                 else:
                     layout.template_curve_mapping(node, "mapping")
         box = layout.box()
-        box.prop(props, "anchor")
+        box.prop(props, "anchor", text="Anchor")
         if props.anchor == 'VERTEX':
             row = box.row(align=True)
-            row.prop(props, "anchor_vertex")
+            row.prop(props, "anchor_vertex", text="Vertex")
             row.operator("bdinterp.anchor_from_selection", text="", icon='RESTRICT_SELECT_OFF')
         elif props.anchor == 'GROUP':
-            box.prop_search(props, "anchor_group", obj, "vertex_groups")
-        box.prop(props, "anchor_path")
-        layout.prop(props, "tolerance")
-        layout.prop(props, "drivers")
+            box.prop_search(props, "anchor_group", obj, "vertex_groups", text="Group")
+        box.prop(props, "anchor_path", text="Path")
+        layout.prop(props, "drivers", text="Playback Slider")
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
         row.operator("bdinterp.clear", text="", icon='TRASH')
-        slider = _pair_slider(obj)
-        if slider:
-            layout.prop(obj, '["%s"]' % slider, text="Playback", slider=True)
+        draw_bake(layout, context, obj)
+
+
+def draw_bake(layout, context, obj):
+    """The playback slider of the current pair's bake (found also after a rename), its status,
+    and the result box."""
+    width = wrap_width(context)
+    found = _bake_of(obj)
+    if found is not None and found.slider in obj.keys():
+        layout.prop(obj, '["%s"]' % found.slider, text="Playback", slider=True)
+        if found.status == "renamed":
+            draw_message(layout, "Bake of the renamed target (slider %r); bake again to rename "
+                         "its keys" % found.slider, icon='INFO', width=width)
+        elif found.status == "stale":
+            draw_message(layout, "Stale: %r was edited after this bake; bake again"
+                         % obj.bdi.target, icon='ERROR', width=width)
+    draw_result(layout, obj.bdi.result, width)
+
+
+def draw_result(layout, text, width):
+    """The result box of the last bake: keys written, max K against the inputs', folded
+    polygons, time, and any note."""
+    try:
+        r = json.loads(text) if text else None
+    except ValueError:
+        r = None
+    if not r:
+        return
+    box = layout.box()
+    col = box.column(align=True)
+    col.label(text="Last bake", icon='INFO')
+    col.label(text="%s -> %s" % (r["source"], r["target"]))
+    col.label(text="Keys written: %d" % r["keys"])
+    ok = r["max_distortion"] <= r["input_distortion"] * (1 + 1e-6)
+    col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
+              icon='CHECKMARK' if ok else 'ERROR')
+    col.label(text="Folded polygons: %d" % r["folded"], icon='CHECKMARK' if not r["folded"] else 'ERROR')
+    col.label(text="Time: %.2f s" % r["seconds"])
+    if r.get("note"):
+        draw_message(col, r["note"], icon='INFO', width=width - 2)
+
+
+class BDINTERP_PT_expert(_Panel, bpy.types.Panel):
+    bl_label = "Expert"
+    bl_parent_id = "BDINTERP_PT_inbetweens"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        layout, props = self.layout, context.object.bdi
+        split = self.layout.split(factor=0.3)  # "Method" in full beside a wide drop-down
+        split.label(text="Method")
+        split.prop(props, "method", text="")
+        layout.prop(props, "tolerance", text="Planarity")
 
 
 class BDINTERP_PT_poses(_Panel, bpy.types.Panel):
@@ -109,12 +179,12 @@ class BDINTERP_PT_poses(_Panel, bpy.types.Panel):
         col = layout.column(align=True)
         for i, item in enumerate(props.poses):
             row = col.row(align=True)
-            row.prop_search(item, "key", key, "key_blocks", text="")
-            row.prop(item, "weight", text="", slider=True)
+            row.prop_search(item, "key", key, "key_blocks", text="Pose")
+            row.prop(item, "weight", text="Weight", slider=True)
             row.operator("bdinterp.pose_remove", text="", icon='X').index = i
         col.operator("bdinterp.pose_add", text="Add Active Key", icon='ADD')
-        layout.prop(props, "blend_name")
-        layout.operator("bdinterp.blend", icon='MOD_SHAPEKEY')
+        layout.prop(props, "blend_name", text="Key")
+        layout.operator("bdinterp.blend", icon='SHAPEKEY_DATA')
 
 
 class BDINTERP_PT_live(_Panel, bpy.types.Panel):
@@ -127,13 +197,17 @@ class BDINTERP_PT_live(_Panel, bpy.types.Panel):
 
     def draw(self, context):
         layout, props = self.layout, context.object.bdi
+        width = wrap_width(context)
         layout.prop(props, "live_mode", expand=True)
         if props.live_mode == 'INTERPOLATE':
-            layout.prop(props, "live_factor")  # keyframable (I over the field)
+            layout.prop(props, "live_factor", text="Factor")  # keyframable (I over the field)
         else:
             layout.label(text="Weights: see Pose Blend (keyframable)")
+        if props.live:
+            draw_message(layout, "This object " + LIVE_WARNING, icon='INFO', width=width)
+            layout.operator("bdinterp.bake_live", icon='SHAPEKEY_DATA')
         if props.live_error:
-            draw_message(layout, props.live_error)
+            draw_message(layout, props.live_error, width=width)
 
 
 class BDINTERP_PT_distortion(_Panel, bpy.types.Panel):
@@ -146,6 +220,10 @@ class BDINTERP_PT_distortion(_Panel, bpy.types.Panel):
         self.layout.operator("bdinterp.distortion", depress=props.distortion_visible,
                              text="Hide Distortion" if props.distortion_visible else
                              "Show Distortion of Active Key", icon='MOD_WARP').action = 'TOGGLE'
+        if props.distortion_visible:
+            col = self.layout.column(align=True)
+            col.label(text="Blue: no worse than the inputs")
+            col.label(text="Red: worse (2x the inputs' K)")
 
 
 class BDINTERP_AP_preferences(bpy.types.AddonPreferences):
@@ -155,14 +233,17 @@ class BDINTERP_AP_preferences(bpy.types.AddonPreferences):
         from .core import build_info
         info = build_info()
         if CORE_ERROR:
-            draw_message(self.layout, CORE_ERROR, width=90)
+            draw_message(self.layout, CORE_ERROR, width=wrap_width(context, 90))
         else:
             self.layout.label(text="Compiled core for Python %s (%s)" % (
                 info.get("python", "?"), info.get("ext_suffix", "source checkout")), icon='CHECKMARK')
 
 
-CLASSES = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_poses, BDINTERP_PT_live,
-           BDINTERP_PT_distortion, BDINTERP_AP_preferences)
+PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP_PT_poses,
+          BDINTERP_PT_live, BDINTERP_PT_distortion)
+CLASSES = PANELS + (BDINTERP_AP_preferences,)
+ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
+         'MOD_WARP', 'CHECKMARK')  # every icon used above
 
 
 class degraded:

@@ -25,6 +25,10 @@ def test_bake_pose_blend_operator(bd):
     for item, w in zip(props.poses, (0.5, 0.2, 0.1)):
         item.weight = w
     assert bpy.ops.bdinterp.blend() == {'FINISHED'}
+    import json
+    box = json.loads(obj.bdi.result)  # the panel's result box
+    assert box["keys"] == 1 and box["target"] == "blend of Bend, Long, Thick" and box["folded"] == 0
+    assert box["max_distortion"] <= box["input_distortion"] * (1 + 1e-6)
     shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long", "Thick")]
     expected = bd.blend(shapes, triangles(obj), [0.2, 0.5, 0.2, 0.1])
     assert maxdiff(read_key(obj, "Blend.bdi"), expected) < TOL

@@ -1,0 +1,268 @@
+"""Bakes: a validated BakeJob computed chunk by chunk, then written (keys, drivers, record).
+
+Under api.py (which validates arguments and calls this) and over solve/playback: the only
+module that writes baked shape keys.
+"""
+
+import json
+import time
+
+from . import mesh_io, playback, solve, timing
+from .names import DEFAULT_TOLERANCE, LIVE_KEY
+from .solve import Inputs, max_distortion
+
+
+class BakeResult:
+    """What a bake wrote: keys, factors, slider positions, slider property, distortion (max K of
+    the in-betweens and of the target), folded polygons, seconds, and a note (e.g. why the slider
+    did not take over the target key)."""
+
+    def __init__(self, **kw):
+        self.folded, self.seconds, self.note = [], 0.0, ""
+        self.__dict__.update(kw)
+
+    @property
+    def message(self):
+        text = ("Baked %d in-betweens %s -> %s: max distortion %.4g (inputs %.4g)"
+                % (len(self.keys), self.source, self.target, self.max_distortion,
+                   self.input_distortion))
+        if self.folded:
+            text += "; %d folded polygons (e.g. polygon %d)" % (len(self.folded), self.folded[0])
+        return text + (" -- " + self.note if self.note else "")
+
+    def summary(self):
+        """JSON-able dict (the panel's result box, bake_folder.py's summary)."""
+        return {"keys": len(self.keys), "source": self.source, "target": self.target,
+                "max_distortion": self.max_distortion, "input_distortion": self.input_distortion,
+                "folded": len(self.folded), "seconds": round(self.seconds, 3), "note": self.note}
+
+    def __repr__(self):
+        return "BakeResult(%s)" % self.message
+
+
+class BakeJob:
+    """A validated bake, computed chunk by chunk (step()) and written only by finish(): the
+    operator steps it from a timer so that Esc can cancel with nothing written."""
+
+    def __init__(self, obj, target, source=None, count=3, factors=None, easing="LINEAR",
+                 anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
+                 drivers=True):
+        self.started = time.perf_counter()
+        self.positions, ts = timing.schedule(count, factors, easing)
+        self.inp = Inputs(obj, source, [target], anchor, anchor_path, tolerance)
+        self.names = timing.key_names(self.inp.others[0].name, ts)
+        self.factors, self.drivers = ts, drivers
+        self.job = solve.FrameJob(self.inp, ts, method)
+
+    @property
+    def total(self):
+        return len(self.factors)
+
+    def step(self):
+        """Compute the next chunk; returns the number of frames done."""
+        return self.job.step()
+
+    @property
+    def finished(self):
+        return self.job.finished
+
+    def finish(self):
+        """Compute what is left, then write keys, drivers and the record; return a BakeResult."""
+        inp, obj = self.inp, self.inp.obj
+        frames = list(self.job.frames())
+        src, tgt = inp.source, inp.others[0]
+        found = playback.find(obj, src.name, tgt.name)
+        slider = found.slider if found else playback.slider_name(inp.key, src.name, tgt.name)
+        note = playback.own_animation(obj, tgt, slider) if self.drivers else ""
+        names, end_key = list(self.names), None
+        # The slider ends on the target itself only if it is relative to the source and has no
+        # animation of its own; otherwise on an end key equal to the target.
+        if self.drivers and (tgt.relative_key != src or note):
+            end_key = timing.key_name(tgt.name, 1.0)
+            names, frames = names + [end_key], frames + [inp.shapes[1]]
+        if note:
+            note += ", so the slider drives the copy %r instead" % end_key
+        k_out = max_distortion(inp.shapes[0], frames, inp.faces)
+        k_in = max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces)
+        folded = solve.folded_polygons(inp, frames)
+        signature = playback.signature(tgt)
+        # --- everything computed; from here on the file is modified ---
+        src_name, tgt_name = src.name, tgt.name
+        playback.remove(obj, src_name, tgt_name, keep_slider=True)
+        written = [write_key(obj, name, src_name, co) for name, co in zip(names, frames)]
+        keys = written[:len(self.positions)]
+        if self.drivers:
+            slider = playback.install(obj, src_name, tgt_name, keys, self.positions,
+                                      end=written[-1] if end_key else None,
+                                      signature_=signature, slider=slider)
+        else:
+            slider = None
+        result = BakeResult(keys=keys, factors=self.factors, positions=self.positions,
+                            source=src_name, target=tgt_name, slider=slider, max_distortion=k_out,
+                            input_distortion=k_in, folded=folded, note=note,
+                            seconds=time.perf_counter() - self.started)
+        store_result(obj, result.summary())
+        return result
+
+
+def store_result(obj, summary):
+    """Keep a bake's summary for the panel's result box (Object.bdi.result, JSON)."""
+    if hasattr(obj, "bdi"):  # the settings exist only while the add-on is registered
+        obj.bdi.result = json.dumps(summary)
+
+
+def run(job, progress):
+    """Step `job` to the end; progress(done, total) after each chunk, False cancels."""
+    while not job.finished:
+        done = job.step()
+        if progress is not None and progress(done, job.total) is False:
+            raise mesh_io.BakeError("bake cancelled after %d of %d in-betweens; nothing written"
+                            % (done, job.total))
+
+
+def write_key(obj, name, source_name, co, value=0.0):
+    """Create (or overwrite) key `name` holding `co`, relative to `source_name`."""
+    key = obj.data.shape_keys
+    kb = key.key_blocks.get(name)
+    if kb is None:
+        kb = obj.shape_key_add(name=name, from_mix=False)
+        kb.value = value
+    kb.relative_key = key.key_blocks[source_name]
+    mesh_io.write_co(kb, co)
+    return kb.name
+
+
+
+
+def _copy_fcurve(src, dst):
+    """Copy keyframes (with handles and interpolation) or a driver from F-curve src to dst."""
+    if src.driver is not None and dst.driver is not None:
+        d_src, d_dst = src.driver, dst.driver
+        d_dst.type, d_dst.expression = d_src.type, d_src.expression
+        for var in d_src.variables:
+            new = d_dst.variables.new()
+            new.name, new.type = var.name, var.type
+            for t_src, t_dst in zip(var.targets, new.targets):
+                if var.type == 'SINGLE_PROP':
+                    t_dst.id_type = t_src.id_type
+                t_dst.id, t_dst.data_path = t_src.id, t_src.data_path
+                t_dst.bone_target, t_dst.transform_type = t_src.bone_target, t_src.transform_type
+                t_dst.transform_space = t_src.transform_space
+        return
+    dst.keyframe_points.add(len(src.keyframe_points))
+    for a, b in zip(src.keyframe_points, dst.keyframe_points):
+        b.co, b.interpolation, b.easing = a.co, a.interpolation, a.easing
+        b.handle_left_type, b.handle_right_type = a.handle_left_type, a.handle_right_type
+        b.handle_left, b.handle_right = a.handle_left, a.handle_right
+    dst.extrapolation = src.extrapolation
+    dst.update()
+
+
+def _factor_curve(obj):
+    """(kind, F-curve) animating obj.bdi.live_factor: ('driver', fc), ('action', fc) or (None, None)."""
+    anim = obj.animation_data
+    if anim is None:
+        return None, None
+    fc = anim.drivers.find("bdi.live_factor")
+    if fc is not None:
+        return "driver", fc
+    fc = anim.action.fcurves.find("bdi.live_factor") if anim.action else None
+    return ("action", fc) if fc is not None else (None, None)
+
+
+def bake_live(obj, count=None):
+    """See api.bake_live: live interpolation -> in-betweens + slider animated like the factor;
+    live pose blend -> one key per distinct set of weights in the scene's frame range."""
+    props = getattr(obj, "bdi", None)
+    if props is None or not props.live:
+        raise mesh_io.BakeError("%s is not in live mode" % getattr(obj, "name", "No object"))
+    if props.live_mode == 'BLEND':
+        return _bake_live_blend(obj, props)
+    job = BakeJob(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
+                  solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True)
+    kind, curve = _factor_curve(obj)
+    result = job.finish()
+    path = '["%s"]' % result.slider
+    obj[result.slider] = min(1.0, max(0.0, props.live_factor))
+    if kind == "driver":
+        obj.driver_remove(path)
+        _copy_fcurve(curve, obj.driver_add(path))
+    elif kind == "action":
+        old = obj.animation_data.action.fcurves.find(path)
+        if old is not None:
+            obj.animation_data.action.fcurves.remove(old)
+        _copy_fcurve(curve, obj.animation_data.action.fcurves.new(path))
+    _live_off(obj)
+    result.note = (result.note + "; " if result.note else "") + (
+        "the slider %r plays it (%s)" % (result.slider, {"driver": "driven like the live factor",
+                                                          "action": "keyframed like the live factor"}
+                                         .get(kind, "set to the live factor")))
+    store_result(obj, result.summary())
+    return result
+
+
+def _live_off(obj):
+    obj.bdi.live = False
+    key = obj.data.shape_keys
+    if key.key_blocks.get(LIVE_KEY) is not None:
+        obj.shape_key_remove(key.key_blocks[LIVE_KEY])
+
+
+def _weights_per_frame(obj, props, frames):
+    """The live pose weights at each frame (from their keyframes; constant ones as they are)."""
+    anim = obj.animation_data
+    paths = ["bdi.poses[%d].weight" % i for i in range(len(props.poses))]
+    if anim is not None and any(anim.drivers.find(p) for p in paths):
+        raise mesh_io.BakeError("%s: driven pose weights cannot be baked to keys; keyframe them"
+                                % obj.name)
+    curves = [anim.action.fcurves.find(p) if anim is not None and anim.action else None for p in paths]
+    return [tuple(c.evaluate(f) if c is not None else p.weight for c, p in zip(curves, props.poses))
+            for f in frames]
+
+
+def _bake_live_blend(obj, props):
+    """One key 'bdi.live.<first frame>' per distinct set of weights over the scene's frames,
+    keyframed (constant) to 1 on its frames and 0 elsewhere: plays without the add-on."""
+    import bpy
+    started, scene = time.perf_counter(), bpy.context.scene
+    frames = list(range(scene.frame_start, scene.frame_end + 1))
+    per_frame = _weights_per_frame(obj, props, frames)
+    distinct = sorted(set(per_frame), key=per_frame.index)
+    inp = Inputs(obj, props.source or None, [p.key for p in props.poses], solve.anchor_choice(props),
+                 None, props.tolerance)
+    solver = inp.interpolator()
+    shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
+              for w in distinct]
+    k_out = max_distortion(inp.shapes[0], shapes, inp.faces)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    folded = solve.folded_polygons(inp, shapes)
+    # --- everything computed; from here on the file is modified ---
+    source, key = inp.source.name, obj.data.shape_keys
+    for kb in [kb for kb in key.key_blocks if kb.name.startswith(LIVE_KEY + ".")]:
+        obj.shape_key_remove(kb)
+    names = []
+    for w, co in zip(distinct, shapes):
+        name = write_key(obj, "%s.%04d" % (LIVE_KEY, frames[per_frame.index(w)]), source, co)
+        _keyframe_steps(key.key_blocks[name], frames, [1.0 if pw == w else 0.0 for pw in per_frame])
+        names.append(name)
+    _live_off(obj)
+    result = BakeResult(keys=names, factors=[], positions=[], source=source, target="pose blend",
+                        slider=None, max_distortion=k_out, input_distortion=k_in, folded=folded,
+                        seconds=time.perf_counter() - started,
+                        note="one key per distinct set of weights over frames %d-%d, keyframed"
+                        % (frames[0], frames[-1]))
+    store_result(obj, result.summary())
+    return result
+
+
+def _keyframe_steps(kb, frames, values):
+    """Constant keyframes of kb.value: one at the first frame and wherever the value changes."""
+    last = None
+    for f, v in zip(frames, values):
+        if v != last:
+            kb.value = v
+            kb.keyframe_insert("value", frame=f)
+            last = v
+    path = kb.path_from_id("value")
+    for kp in kb.id_data.animation_data.action.fcurves.find(path).keyframe_points:
+        kp.interpolation = 'CONSTANT'

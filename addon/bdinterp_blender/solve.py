@@ -1,0 +1,206 @@
+"""Shapes from shape keys -> frames, blends and their distortion (reads bpy data, never writes it).
+
+The service layer under api.py, live.py and distortion.py: validation (Inputs), the solver calls
+(chunked Interpolator.frames() for bakes, blend() for poses) and the translation of the core's
+words ("shape 1", "face 12" = a triangle) into Blender's (key names, polygon indices).
+"""
+
+import re
+
+from . import mesh_io
+from .mesh_io import BakeError
+from .names import CHUNK, DEFAULT_TOLERANCE
+
+
+def core():
+    from .core import load_core
+    return load_core()
+
+
+class Inputs:
+    """Validated shapes of one request: shapes[0] is the source (base) shape.
+
+    raw: the keys' float32 data as read (live mode compares it to notice key edits); faces: (m, 3)
+    triangles; poly: (m,) the polygon of each triangle; names: the keys' names, source first.
+    """
+
+    def __init__(self, obj, source, others, anchor="AUTO", anchor_path=None,
+                 tolerance=DEFAULT_TOLERANCE):
+        self.obj, self.obj_name = obj, obj.name if obj is not None else "No object"
+        self.key = mesh_io.key_of(obj)
+        self.source = mesh_io.key_block(self.key, source)
+        if not others:
+            raise BakeError("no target shape key given")
+        if not all(others):
+            raise BakeError("no target shape key chosen")
+        self.others = [mesh_io.key_block(self.key, name) for name in others]
+        for kb in self.others:
+            if kb == self.source:
+                raise BakeError("target %r is the source key; pick another target" % kb.name)
+        blocks = [self.source] + self.others
+        self.names = [kb.name for kb in blocks]
+        self.raw = [mesh_io.read_raw(kb) for kb in blocks]
+        self.shapes = mesh_io.project_planar([r.reshape(-1, 3).astype(float) for r in self.raw],
+                                             self.names, tolerance)
+        self.faces, self.poly = mesh_io.triangles(obj.data)
+        self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
+
+    def explain(self, exc):
+        """BakeError in Blender's terms: 'shape i' -> the key's name, 'face f' (a triangle of the
+        tessellation) -> its polygon, prefixed with the object's name."""
+        text = re.sub(r"\bshape (\d+)\b", lambda m: self._key_name(int(m.group(1))), str(exc))
+        text = re.sub(r"\bface (\d+)\b", lambda m: self._polygon(int(m.group(1))), text)
+        return BakeError("%s: %s" % (self.obj_name, text))
+
+    def _key_name(self, i):
+        return "key %r" % self.names[i] if 0 <= i < len(self.names) else "shape %d" % i
+
+    def _polygon(self, f):
+        return "polygon %d" % self.poly[f] if 0 <= f < len(self.poly) else "face %d" % f
+
+    def interpolator(self):
+        """A precomputed bdinterp.Interpolator of these shapes (base: the source)."""
+        try:
+            return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0)
+        except ValueError as exc:
+            raise self.explain(exc) from exc
+
+
+def anchor_choice(props, kind=None):
+    """The anchor argument of the panel settings `props` (Object.bdi): 'AUTO', the vertex index
+    or the vertex group's name, for kind (default props.anchor) 'AUTO', 'VERTEX' or 'GROUP'."""
+    kind = kind or props.anchor
+    if kind not in ('AUTO', 'VERTEX', 'GROUP'):
+        raise BakeError("anchor must be 'AUTO', 'VERTEX' or 'GROUP', got %r" % (kind,))
+    return {'AUTO': "AUTO", 'VERTEX': props.anchor_vertex, 'GROUP': props.anchor_group}[kind]
+
+
+def resolve_anchor(obj, anchor, anchor_path, n_targets):
+    """Map the add-on's anchor choice to bdinterp's `anchor` argument.
+
+    anchor: 'AUTO'/None, a vertex index, a vertex group name (its heaviest vertex), or a
+    bpy VertexGroup.  anchor_path: optional curve object whose path the anchor (the vertex, or
+    the centroid for 'AUTO') follows, in the mesh's local coordinates.
+    """
+    if anchor in (None, "AUTO", "auto"):
+        vertex = None
+    elif isinstance(anchor, int):
+        if not 0 <= anchor < len(obj.data.vertices):
+            raise BakeError("anchor vertex %d does not exist (%s has %d vertices)"
+                            % (anchor, obj.name, len(obj.data.vertices)))
+        vertex = anchor
+    else:
+        vertex = mesh_io.anchor_vertex_of_group(obj, getattr(anchor, "name", anchor))
+    if anchor_path is None:
+        return vertex
+    if n_targets != 1:
+        raise BakeError("an anchor path works for two shapes only, not for pose blends")
+    return _anchor_path(obj, anchor_path, vertex)
+
+
+def _anchor_path(obj, path_obj, vertex):
+    import bpy
+    import numpy as np
+    if path_obj.type != 'CURVE':
+        raise BakeError("anchor path %r is not a curve object" % path_obj.name)
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    evaluated = path_obj.evaluated_get(depsgraph)
+    mesh = evaluated.to_mesh()
+    try:
+        # World -> this mesh's local coordinates, where the shapes live.
+        to_local = obj.matrix_world.inverted() @ evaluated.matrix_world
+        pts = np.array([tuple(to_local @ v.co) for v in mesh.vertices], dtype=np.float64)
+    finally:
+        evaluated.to_mesh_clear()
+    if len(pts) < 2:
+        raise BakeError("anchor path %r has fewer than two points" % path_obj.name)
+    seg = np.linalg.norm(np.diff(pts, axis=0), axis=1)
+    ts = np.concatenate([[0.0], np.cumsum(seg)]) / max(seg.sum(), 1e-30)
+    angles = np.zeros(len(pts))  # no extra spin: the rotation is blended by the solver
+    return core().AnchorPath(ts, pts, angles, vertex=vertex)
+
+
+class FrameJob:
+    """The frames of inp at factors ts, computed chunk by chunk (step()), so that a caller can show
+    progress and cancel between chunks.  'bdi' goes through Interpolator.frames() (warm-started,
+    on all cores); 'arap'/'linear' through bdinterp.interpolate per factor."""
+
+    def __init__(self, inp, ts, method="bdi", chunk=CHUNK):
+        self.inp, self.ts, self.method, self.chunk = inp, list(ts), method, max(1, int(chunk))
+        self.done, self._parts = 0, []
+        self._solver = inp.interpolator() if method == "bdi" else None
+
+    @property
+    def finished(self):
+        return self.done >= len(self.ts)
+
+    def step(self):
+        """Compute the next chunk; returns the number of frames done so far."""
+        import numpy as np
+        ts = self.ts[self.done:self.done + self.chunk]
+        inp = self.inp
+        try:
+            if self._solver is not None:
+                part = self._solver.frames(ts)
+            else:
+                bd = core()
+                part = np.stack([bd.interpolate(inp.shapes[0], inp.shapes[1], inp.faces, t,
+                                                anchor=inp.anchor, method=self.method) for t in ts])
+        except ValueError as exc:  # the core names the problem (and indices); keep its words
+            raise inp.explain(exc) from exc
+        self._parts.append(np.asarray(part, dtype=np.float64))
+        self.done += len(ts)
+        return self.done
+
+    def frames(self):
+        """(k, n, 3) once finished (computing what is left)."""
+        import numpy as np
+        while not self.finished:
+            self.step()
+        return np.concatenate(self._parts) if self._parts else np.empty((0,) + self.inp.shapes[0].shape)
+
+
+def max_distortion(source, results, faces):
+    """Largest per-triangle conformal distortion K of any of `results` against `source`."""
+    import numpy as np
+    bd = core()
+    return max(float(np.max(bd.conformal_distortion(source, r, faces))) for r in results)
+
+
+def folded_polygons(inp, results):
+    """Sorted polygon indices with a triangle flipped or collapsed (area ratio <= 0) in any result."""
+    import numpy as np
+    bd = core()
+    bad = np.zeros(len(inp.faces), dtype=bool)
+    for r in results:
+        bad |= np.asarray(bd.area_ratio(inp.shapes[0], r, inp.faces)) <= 0.0
+    return sorted(set(int(p) for p in inp.poly[bad]))
+
+
+def pose_weights(weights):
+    """{key: w} -> (names, weights incl. the source first).
+
+    Weights are >= 0; the source gets 1 - sum (the paper's base shape S0 with the identity
+    map); if they sum to more than 1 they are normalised and the source gets 0.
+    """
+    items = list(weights.items()) if hasattr(weights, "items") else list(weights)
+    if not items:
+        raise BakeError("no poses given")
+    names = [n for n, _ in items]
+    ws = [float(w) for _, w in items]
+    if any(w < 0 for w in ws):
+        raise BakeError("pose weights must be >= 0 (got %s)" % dict(items))
+    total = sum(ws)
+    if total > 1.0:
+        return names, [0.0] + [w / total for w in ws]
+    return names, [1.0 - total] + ws
+
+
+def blend_shape(inp, all_weights, solver=None):
+    """Bounded-distortion blend of inp.shapes with weights (source first), (n, 3)."""
+    try:
+        if solver is not None:
+            return solver.blend(all_weights)
+        return core().blend(inp.shapes, inp.faces, all_weights, anchor=inp.anchor, base=0)
+    except ValueError as exc:
+        raise inp.explain(exc) from exc

@@ -1,0 +1,49 @@
+"""Every panel's draw() in a real Blender window (Xvfb), and the README's screenshot of it."""
+
+import os
+import shutil
+import subprocess
+
+import bpy
+import pytest
+
+from conftest import ROOT, json_lines
+
+SCRIPT = os.path.join(ROOT, "examples", "blender", "panel_screenshot.py")
+
+
+def run_in_window(args, timeout=240):
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("xvfb-run not found (Debian packages xvfb and xauth)")
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", bpy.app.binary_path,
+           "--factory-startup", "--enable-event-simulate", "--python", SCRIPT, "--", *args]
+    return subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=dict(os.environ))
+
+
+def test_every_panel_draws_in_a_real_window(addon, tmp_path):
+    png = os.path.join(str(tmp_path), "panel.png")
+    proc = run_in_window(["--open-all", "--out", png])
+    out = json_lines(proc)[-1]
+    assert out["errors"] == {}, out["errors"]
+    from bdinterp_blender import ui
+    for cls in ui.PANELS:
+        assert out["calls"].get(cls.__name__ + ".draw", 0) >= 1, (cls.__name__, out["calls"])
+    assert "Traceback" not in proc.stderr, proc.stderr[-3000:]
+    img = bpy.data.images.load(png)
+    assert img.size[0] == 560 and img.size[1] > 500
+
+
+def test_bake_from_the_ui_cancels_with_esc_and_undoes(addon):
+    script = os.path.join(os.path.dirname(os.path.abspath(__file__)), "window_bake.py")
+    if shutil.which("xvfb-run") is None:
+        pytest.skip("xvfb-run not found (Debian packages xvfb and xauth)")
+    cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", bpy.app.binary_path,
+           "--factory-startup", "--enable-event-simulate", "--python", script]
+    proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240, env=dict(os.environ))
+    out = json_lines(proc)[-1]
+    assert "error" not in out, out["error"]
+    assert out["invoke"] == ["RUNNING_MODAL"]  # modal: one chunk per timer event
+    assert out["after_cancel"] == ["Basis", "Bend"] and not out["slider_after_cancel"]
+    # the wait after Esc (60 ticks) was longer than a whole bake takes: the bake really stopped
+    assert out["after_bake"] == 2 + 48 and out["ticks_to_bake"] < 60
+    assert out["after_undo"] == ["Basis", "Bend"]  # the whole bake is one undo step
