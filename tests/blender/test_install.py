@@ -33,6 +33,19 @@ def test_installed_from_zip_and_registered(addon):
         assert not any(p.endswith("_vendor") for p in sys.path)
 
 
+def test_scripting_name_gives_the_same_modules(addon):
+    """`import bdinterp_blender.ui` (the scripting name) must not load a second copy of the module
+    under an extension, whose state would then diverge from the registered one."""
+    import importlib
+    ui = importlib.import_module("bdinterp_blender.ui")
+    assert ui is importlib.import_module(ADDON_MODULE + ".ui")
+    assert ui.__spec__.name == ADDON_MODULE + ".ui"  # the real name, for reload and pickling
+    assert ui.BDINTERP_PT_main is bpy.types.BDINTERP_PT_main
+    copies = [n for n, m in sys.modules.items() if getattr(m, "__file__", None) == ui.__file__
+              and m is not ui]
+    assert copies == []
+
+
 def test_extension_zip_lists_a_wheel_per_python():
     legacy = addon_zip()
     assert legacy.endswith("-legacy-py311.zip")  # Blender 3.4-4.1 embed Python 3.11
