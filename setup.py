@@ -61,4 +61,7 @@ class CMakeBuild(build_ext):
                        cwd=build_dir, check=True)
 
 
-setup(ext_modules=[CMakeExtension("bdinterp._core")], cmdclass={"build_ext": CMakeBuild})
+# The portable module keeps the manylinux_2_31 policy (scripts/audit_so.py), so its wheel says so.
+PORTABLE_WHEEL = os.environ.get("BDINTERP_CORE", "portable") == "portable" and portable_module()
+setup(ext_modules=[CMakeExtension("bdinterp._core")], cmdclass={"build_ext": CMakeBuild},
+      options={"bdist_wheel": {"plat_name": "manylinux_2_31_x86_64"}} if PORTABLE_WHEEL else {})

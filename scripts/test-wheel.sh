@@ -9,7 +9,7 @@ work=$(mkdir -p "$1" && cd "$1" && pwd)
 rm -rf "$work/pip" "$work/site"
 cd "$ROOT"
 BDINTERP_CORE=portable /usr/bin/python3 -m pip wheel . --no-build-isolation --no-deps -q -w "$work/pip"
-wheel=$(ls "$work"/pip/bdinterp-*.whl)
+wheel=$(ls "$work"/pip/bdinterp-*-cp311-cp311-manylinux_2_31_x86_64.whl)
 /usr/bin/python3 scripts/audit_so.py "$wheel"
 /usr/bin/python3 - "$wheel" dist/bdinterp-"$(cat VERSION)"-cp311-cp311-manylinux_2_31_x86_64.whl <<'PY'
 import hashlib, sys, zipfile
