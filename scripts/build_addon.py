@@ -66,7 +66,11 @@ def portable_modules(portable):
 
 
 def versions():
-    """The version (file VERSION); dies if bl_info, the manifest or bdinterp differ."""
+    """The version (file VERSION); dies if bl_info, the manifest or bdinterp differ, or if a
+    licence declaration is not GPL-3.0-or-later."""
+    if version_source.licence_mismatches():
+        die("the licence %s is not declared in %s" % (
+            version_source.LICENCE, ", ".join(version_source.licence_mismatches())))
     bad = version_source.mismatches()
     if bad:
         die("VERSION says %s but %s (scripts/version.py --set fixes)" % (
