@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
-"""The one version number (the file VERSION) and the one licence (GPL-3.0-or-later). CMake and pyproject read it; the places that must hold
-a literal (bl_info, blender_manifest.toml, bdinterp.__version__) are checked or rewritten here.
+"""The one version number (the file VERSION) and the one licence (GPL-3.0-or-later).
+
+CMake and pyproject read VERSION; the places that must hold a literal (bl_info,
+blender_manifest.toml, bdinterp.__version__) are checked or rewritten here, and every licence
+declaration (pyproject, manifest, bl_info, the CMake package) is checked.
 
     /usr/bin/python3 scripts/version.py            print the version
     /usr/bin/python3 scripts/version.py --check    fail if a literal differs from VERSION
