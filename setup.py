@@ -32,8 +32,10 @@ def portable_module():
     so = PORTABLE / ("py%d%d" % sys.version_info[:2]) / ("_core" + suffix)
     if not so.exists():
         return None
-    sources = [p for d in ("cpp", "cmake") for p in (ROOT / d).rglob("*") if p.is_file()]
-    newest = max(p.stat().st_mtime for p in sources + [ROOT / "CMakeLists.txt"])
+    # What goes into the module: the C++ sources and the build's CMake code.
+    sources = [p for p in (ROOT / "cpp").rglob("*") if p.is_file()] + list(
+        (ROOT / "cmake").glob("*.cmake")) + [ROOT / "CMakeLists.txt"]
+    newest = max(p.stat().st_mtime for p in sources)
     if so.stat().st_mtime < newest:
         sys.exit("setup.py: %s is older than the C++ sources: run `make portable` "
                  "(or BDINTERP_CORE=source for a build against this machine's libraries)" % so)
