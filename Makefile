@@ -42,6 +42,13 @@ test-cpp: build
 	cmake -S examples/cpp -B $(BUILD)/cpp-example -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
 	cmake --build $(BUILD)/cpp-example
 	$(BUILD)/cpp-example/bend_bar
+	# its version file accepts 0.x.* and refuses 0.(x+1); tests are off for add_subdirectory users
+	cmake -S cmake/tests/version -B $(BUILD)/version-ok -DWANT=$(VERSION) -DEXPECT_FOUND=1 \
+	      -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
+	cmake -S cmake/tests/version -B $(BUILD)/version-next -DEXPECT_FOUND=0 \
+	      -DWANT=$(word 1,$(subst ., ,$(VERSION))).$(shell echo $$(($(word 2,$(subst ., ,$(VERSION)))+1))) \
+	      -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
+	cmake -S cmake/tests/subproject -B $(BUILD)/subproject >/dev/null
 
 test-python: install
 	cd tests && $(PYTHON) -m pytest -q python

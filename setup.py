@@ -32,8 +32,10 @@ def portable_module():
     so = PORTABLE / ("py%d%d" % sys.version_info[:2]) / ("_core" + suffix)
     if not so.exists():
         return None
-    sources = [p for d in ("cpp", "cmake") for p in (ROOT / d).rglob("*") if p.is_file()]
-    newest = max(p.stat().st_mtime for p in sources + [ROOT / "CMakeLists.txt"])
+    # What goes into the module: the C++ sources and the build's CMake code.
+    sources = [p for p in (ROOT / "cpp").rglob("*") if p.is_file()] + list(
+        (ROOT / "cmake").glob("*.cmake")) + [ROOT / "CMakeLists.txt"]
+    newest = max(p.stat().st_mtime for p in sources)
     if so.stat().st_mtime < newest:
         sys.exit("setup.py: %s is older than the C++ sources: run `make portable` "
                  "(or BDINTERP_CORE=source for a build against this machine's libraries)" % so)
@@ -61,4 +63,7 @@ class CMakeBuild(build_ext):
                        cwd=build_dir, check=True)
 
 
-setup(ext_modules=[CMakeExtension("bdinterp._core")], cmdclass={"build_ext": CMakeBuild})
+# The portable module keeps the manylinux_2_31 policy (scripts/audit_so.py), so its wheel says so.
+PORTABLE_WHEEL = os.environ.get("BDINTERP_CORE", "portable") == "portable" and portable_module()
+setup(ext_modules=[CMakeExtension("bdinterp._core")], cmdclass={"build_ext": CMakeBuild},
+      options={"bdist_wheel": {"plat_name": "manylinux_2_31_x86_64"}} if PORTABLE_WHEEL else {})

@@ -62,18 +62,17 @@ def fmt(version):
 
 
 def expand(files, tmp):
-    """[(label, path)] of every .so in `files`, unpacking zips and wheels into tmp (all of an
+    """[(archive or directory, path)] of every .so in `files`, unpacking zips and wheels into tmp (all of an
     archive's libraries first: a module's bundled neighbours must be there when it is checked)."""
     found = []
     for f in files:
         if not f.endswith((".zip", ".whl")):
-            found.append((f, f))
+            found.append((os.path.dirname(f) or ".", f))
             continue
         with zipfile.ZipFile(f) as zf:
             for n in zf.namelist():
                 if n.endswith(".so") or ".so." in os.path.basename(n):
-                    found.append(("%s:%s" % (os.path.basename(f), n),
-                                  zf.extract(n, os.path.join(tmp, os.path.basename(f)))))
+                    found.append((f, zf.extract(n, os.path.join(tmp, os.path.basename(f)))))
     return found
 
 
@@ -82,14 +81,18 @@ def main():
     ap.add_argument("files", nargs="+")
     args = ap.parse_args()
     failed = found = 0
-    print("%-70s %-7s %-9s %-8s %s" % ("module", "GLIBC", "GLIBCXX", "RUNPATH", "NEEDED"))
+    print("%-38s %-6s %-8s %-8s %s" % ("module", "GLIBC", "GLIBCXX", "RUNPATH", "NEEDED"))
     with tempfile.TemporaryDirectory() as tmp:
-        for label, path in expand(args.files, tmp):
+        where = None
+        for archive, path in expand(args.files, tmp):
+            if archive != where:
+                where = archive
+                print("%s:" % archive)
             found += 1
             info = inspect(path)
             v = info["versions"]
-            print("%-70s %-7s %-9s %-8s %s" % (
-                label[-70:], fmt(v.get("GLIBC", ())) or "-", fmt(v.get("GLIBCXX", ())) or "static",
+            print("  %-36s %-6s %-8s %-8s %s" % (
+                os.path.basename(path), fmt(v.get("GLIBC", ())) or "-", fmt(v.get("GLIBCXX", ())) or "static",
                 info["runpath"] or "-", " ".join(info["needed"])))
             for reason in violations(path, info):
                 failed += 1

@@ -24,8 +24,9 @@ DEPS=$OUT/deps
 if [ ! -f "$DEPS/.done" ]; then
   rm -rf "$DEPS"; mkdir -p "$DEPS/debs"
   cp -L /etc/resolv.conf "$FETCHER/etc/resolv.conf"
+  # apt as root without its _apt sandbox user (which cannot write into the chroot's /tmp/debs)
   chroot "$FETCHER" sh -c 'apt-get update -qq && mkdir -p /tmp/debs && cd /tmp/debs &&
-    apt-get download -qq libpython3.13-dev pybind11-dev libeigen3-dev \
+    apt-get -o APT::Sandbox::User=root download -qq libpython3.13-dev pybind11-dev libeigen3-dev \
       python3-pytest python3-pluggy python3-iniconfig python3-packaging'
   mv "$FETCHER"/tmp/debs/*.deb "$DEPS/debs/"
   for deb in "$DEPS"/debs/*.deb; do dpkg -x "$deb" "$DEPS/root"; done

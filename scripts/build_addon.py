@@ -66,7 +66,11 @@ def portable_modules(portable):
 
 
 def versions():
-    """The version (file VERSION); dies if bl_info, the manifest or bdinterp differ."""
+    """The version (file VERSION); dies if bl_info, the manifest or bdinterp differ, or if a
+    licence declaration is not GPL-3.0-or-later."""
+    if version_source.licence_mismatches():
+        die("the licence %s is not declared in %s" % (
+            version_source.LICENCE, ", ".join(version_source.licence_mismatches())))
     bad = version_source.mismatches()
     if bad:
         die("VERSION says %s but %s (scripts/version.py --set fixes)" % (
@@ -118,11 +122,12 @@ def write_zip(path, staged, prefix, skip=(), replace=None):
                         zf.writestr(zi, f.read())
 
 
-def legacy_zip(out, version, so_path, licenses):
-    """Legacy: one top-level package folder; no manifest (4.2+ would treat it as an extension)."""
+def legacy_zip(out, version, so_path, licenses, development=False):
+    """Legacy: one top-level package folder; no manifest (4.2+ would treat it as an extension).
+    development: a zip around a module built against this machine's libraries (--core)."""
     tag = python_of(so_path)
     info = {"version": version, "platform": PLATFORM, "layout": "legacy",
-            "pythons": [dotted(tag)], "python": dotted(tag),
+            "pythons": [dotted(tag)], "python": dotted(tag), "development": development,
             "ext_suffix": os.path.basename(so_path)[len("_core"):]}
     path = os.path.join(out, "bdinterp_blender-%s-legacy-py%s.zip" % (version, tag))
     with tempfile.TemporaryDirectory() as tmp:
@@ -170,7 +175,8 @@ def main():
         so = glob.glob(os.path.join(args.core, "_core.cpython-*.so"))
         if len(so) != 1:
             die("expected one compiled module in %s, found %s" % (args.core, so or "none"))
-        print("wrote %s (development, unaudited)" % legacy_zip(args.out, version, so[0], None))
+        path = legacy_zip(args.out, version, so[0], None, development=True)
+        print("wrote %s (development: this machine's libraries, unaudited)" % path)
         return
     licenses = os.path.join(args.portable, "licenses")
     mods = portable_modules(args.portable)

@@ -50,10 +50,12 @@ def metadata(ver):
 
 def entries(so_path, tag, ver, licenses):
     """(archive name, bytes) of every file of the wheel except RECORD."""
-    for name in sorted(os.listdir(PACKAGE)):
-        if name.endswith(".py"):
-            with open(os.path.join(PACKAGE, name), "rb") as f:
-                yield "bdinterp/" + name, f.read()
+    for dirpath, dirnames, filenames in os.walk(PACKAGE):
+        dirnames[:] = sorted(d for d in dirnames if d != "__pycache__")
+        for name in sorted(n for n in filenames if n.endswith((".py", ".typed", ".pyi"))):
+            rel = os.path.relpath(os.path.join(dirpath, name), PACKAGE).replace(os.sep, "/")
+            with open(os.path.join(dirpath, name), "rb") as f:
+                yield "bdinterp/" + rel, f.read()
     for lib in [so_path] + bundled_libs(so_path):
         with open(lib, "rb") as f:
             yield "bdinterp/" + os.path.basename(lib), f.read()

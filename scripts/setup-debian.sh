@@ -8,6 +8,7 @@ packages=(
   python3-dev python3-pip python3-setuptools python3-pybind11 pybind11-dev
   python3-numpy python3-scipy python3-matplotlib python3-pytest
   blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
+  debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -1,6 +1,9 @@
 #!/usr/bin/env python3
-"""The one version number: the file VERSION. CMake and pyproject read it; the places that must hold
-a literal (bl_info, blender_manifest.toml, bdinterp.__version__) are checked or rewritten here.
+"""The one version number (the file VERSION) and the one licence (GPL-3.0-or-later).
+
+CMake and pyproject read VERSION; the places that must hold a literal (bl_info,
+blender_manifest.toml, bdinterp.__version__) are checked or rewritten here, and every licence
+declaration (pyproject, manifest, bl_info, the CMake package) is checked.
 
     /usr/bin/python3 scripts/version.py            print the version
     /usr/bin/python3 scripts/version.py --check    fail if a literal differs from VERSION
@@ -19,6 +22,26 @@ LITERALS = {
     "addon/bdinterp_blender/blender_manifest.toml": (r'^version\s*=\s*"([^"]+)"', str),
     "python/bdinterp/__init__.py": (r'^__version__\s*=\s*"([^"]+)"', str),
 }
+
+
+LICENCE = "GPL-3.0-or-later"
+# Where the licence is declared, as a pattern that must match there.
+LICENCE_DECLARED = {
+    "pyproject.toml": r'^license = \{ text = "%s" \}',
+    "addon/bdinterp_blender/blender_manifest.toml": r'^license = \["SPDX:%s"\]',
+    "addon/bdinterp_blender/__init__.py": r'"license": "%s"',
+    "cmake/bdinterpConfig.cmake.in": r'set\(bdinterp_LICENSE "%s"\)',
+}
+
+
+def licence_mismatches():
+    """The files of LICENCE_DECLARED that do not declare LICENCE."""
+    bad = []
+    for path, pattern in LICENCE_DECLARED.items():
+        with open(os.path.join(ROOT, path), encoding="utf-8") as f:
+            if not re.search(pattern % re.escape(LICENCE), f.read(), re.M):
+                bad.append(path)
+    return bad
 
 
 def version():
@@ -65,6 +88,8 @@ def main():
     if args.set:
         set_version(args.set)
     if args.check:
+        if licence_mismatches():
+            sys.exit("version: %s not declared in %s" % (LICENCE, ", ".join(licence_mismatches())))
         bad = mismatches()
         if bad:
             sys.exit("version: VERSION says %s but %s" % (version(), ", ".join(

@@ -86,13 +86,13 @@ class _Loaded(importlib.abc.Loader):
     """Loader of a module that is already imported under its real name."""
 
     def __init__(self, module):
-        self.module = module
+        self.module, self.spec = module, module.__spec__
 
     def create_module(self, spec):
         return self.module
 
     def exec_module(self, module):
-        pass
+        module.__spec__ = self.spec  # importlib set the alias's spec; keep the real one
 
 
 class _AliasFinder(importlib.abc.MetaPathFinder):

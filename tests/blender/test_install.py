@@ -10,6 +10,7 @@ import tomllib
 import zipfile
 
 import bpy
+import pytest
 
 from conftest import ADDON_MODULE, EXTENSION, addon_zip, json_lines, run_blender, write_child_script
 
@@ -33,7 +34,22 @@ def test_installed_from_zip_and_registered(addon):
         assert not any(p.endswith("_vendor") for p in sys.path)
 
 
-def test_extension_zip_lists_a_wheel_per_python():
+def test_scripting_name_gives_the_same_modules(addon):
+    """`import bdinterp_blender.ui` (the scripting name) must not load a second copy of the module
+    under an extension, whose state would then diverge from the registered one."""
+    import importlib
+    ui = importlib.import_module("bdinterp_blender.ui")
+    assert ui is importlib.import_module(ADDON_MODULE + ".ui")
+    assert ui.__spec__.name == ADDON_MODULE + ".ui"  # the real name, for reload and pickling
+    assert ui.BDINTERP_PT_main is bpy.types.BDINTERP_PT_main
+    copies = [n for n, m in sys.modules.items() if getattr(m, "__file__", None) == ui.__file__
+              and m is not ui]
+    assert copies == []
+
+
+def test_extension_zip_lists_a_wheel_per_python(addon):
+    if addon.build_info().get("development"):
+        pytest.skip("development zip (build_addon.py --core): no extension, no bundled libraries")
     legacy = addon_zip()
     assert legacy.endswith("-legacy-py311.zip")  # Blender 3.4-4.1 embed Python 3.11
     extension = re.sub(r"-legacy-py\d+\.zip$", "-extension.zip", legacy)
