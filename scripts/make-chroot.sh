@@ -6,7 +6,9 @@
 #                                       headless rendering) - Blender 4.3 with Python 3.13
 set -euo pipefail
 kind=$1 dir=$2
-MIRROR=${DEBIAN_MIRROR:-http://deb.debian.org/debian}
+# debootstrap's own default mirror unless DEBIAN_MIRROR names another.
+mirror=()
+[ -n "${DEBIAN_MIRROR:-}" ] && mirror=("$DEBIAN_MIRROR")
 case $kind in
   build)   suite=bullseye
            pkgs=g++,make,cmake,libsuitesparse-dev,libmetis-dev,libopenblas-dev,libeigen3-dev,gfortran,patchelf ;;
@@ -17,7 +19,7 @@ esac
 if [ -f "$dir/.bdinterp-done" ]; then exit 0; fi
 rm -rf "$dir"; mkdir -p "$dir"
 start=$(date +%s)
-debootstrap --variant=minbase --include="$pkgs" "$suite" "$dir" "$MIRROR" >"$dir.log" 2>&1 \
+debootstrap --variant=minbase --include="$pkgs" "$suite" "$dir" "${mirror[@]}" >"$dir.log" 2>&1 \
   || { tail -20 "$dir.log" >&2; exit 1; }
 touch "$dir/.bdinterp-done"
 echo "chroot $suite ($kind) in $dir: $(( $(date +%s) - start )) s"
