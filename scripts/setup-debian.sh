@@ -9,6 +9,7 @@ packages=(
   python3-numpy python3-scipy python3-matplotlib python3-pytest
   blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
+  xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
 )
 missing=()
 for p in "${packages[@]}"; do
