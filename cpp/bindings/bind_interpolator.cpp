@@ -28,6 +28,7 @@ py::dict stats_dict(const FrameStats& s) {
   d["factorizations"] = s.factorizations;
   d["chord_steps"] = s.chord_steps;
   d["seconds"] = s.seconds;
+  d["hole_closure"] = s.hole_closure;  // list, one entry per hole
   return d;
 }
 

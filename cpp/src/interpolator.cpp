@@ -10,6 +10,7 @@
 #include <sstream>
 #include <thread>
 
+#include "bdinterp/holes.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 #include "bdinterp/parallel.h"
@@ -93,6 +94,9 @@ void merge(FrameStats& into, const FrameStats& s) {
   into.factorizations += s.factorizations;
   into.chord_steps += s.chord_steps;
   into.pieces = s.pieces;
+  into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
+  for (size_t k = 0; k < s.hole_closure.size(); ++k)
+    into.hole_closure[k] = std::max(into.hole_closure[k], s.hole_closure[k]);
 }
 
 // OpenBLAS runs threads of its own inside CHOLMOD's supernodal solves; next to one worker per core
@@ -133,6 +137,7 @@ struct Interpolator::PieceSolver {
     Layout* layout;
     std::unique_ptr<Flattener> own_flattener;
     std::unique_ptr<Layout> own_layout;
+    std::unique_ptr<HoleSolver> holes;  // pieces with holes: flattening and layout (holes.h)
     History history;
     Eigen::VectorXd u, l2w;
     Positions X;
@@ -145,7 +150,7 @@ struct Interpolator::PieceSolver {
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
-  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}, {}};
+  Workspace main{&flattener, &layout, nullptr, nullptr, nullptr, {}, {}, {}, {}};
   std::vector<std::unique_ptr<Workspace>> extra;  // workers 1, 2, ... of frames()
 
   Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
@@ -168,6 +173,7 @@ struct Interpolator::PieceSolver {
     }
     mirrored = area < 0;
     main.u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
+    if (piece.mesh.boundary_loops().size() > 1) main.holes = std::make_unique<HoleSolver>(piece.mesh, B);
   }
 
   // A workspace for another thread, starting from this one's history and reusable factorisation.
@@ -177,6 +183,7 @@ struct Interpolator::PieceSolver {
     ws->own_layout = main.layout->clone();
     ws->flattener = ws->own_flattener.get();
     ws->layout = ws->own_layout.get();
+    if (main.holes) ws->holes = main.holes->clone();
     ws->history = main.history;
     ws->u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
     return ws;
@@ -188,16 +195,26 @@ struct Interpolator::PieceSolver {
   }
 
   FlattenReport solve(Workspace& ws, const Eigen::VectorXd& w, const FlattenOptions& opt,
-                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) const {
+                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness,
+                      std::vector<double>& closure) const {
     ws.l2w = blend_squared_lengths(piece.mesh, l2, w);
     ws.history.predict(w, ws.u);
-    const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
-    ws.history.add(w, ws.u);
     Positions& X = ws.X;
-    // The layout solves with the flattening's factorised Hessian: no second factor.
-    double shift = 0;
-    SparseCholesky* W = ws.flattener->num_interior() > 0 ? &ws.flattener->factored_hessian(ws.l2w, ws.u, &shift) : nullptr;
-    ws.layout->embed(ws.flattener->flat_squared_lengths(), W, shift, X, flatness);
+    FlattenReport rep;
+    if (ws.holes) {
+      const HolesReport hr = ws.holes->solve(ws.l2w, ws.u, X, opt);
+      rep = hr.flatten;
+      *flatness = hr.flatness;
+      closure.insert(closure.end(), hr.closure.begin(), hr.closure.end());
+      ws.history.add(w, ws.u);
+    } else {
+      rep = ws.flattener->solve(ws.l2w, ws.u, opt);
+      ws.history.add(w, ws.u);
+      // The layout solves with the flattening's factorised Hessian: no second factor.
+      double shift = 0;
+      SparseCholesky* W = ws.flattener->num_interior() > 0 ? &ws.flattener->factored_hessian(ws.l2w, ws.u, &shift) : nullptr;
+      ws.layout->embed(ws.flattener->flat_squared_lengths(), W, shift, X, flatness);
+    }
     if (mirrored) X.col(0) *= -1.0;
     anchor.place(X, blend_frames(frames, w, anchor_mode));
     for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);
@@ -242,7 +259,7 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
-  for (Piece& p : split_into_disks(mesh)) {
+  for (Piece& p : split_into_pieces(mesh)) {
     std::vector<Positions> local(shapes.size(), Positions(p.vertices.size(), 2));
     for (size_t i = 0; i < shapes.size(); ++i)
       for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = shapes[i].row(p.vertices[k]);
@@ -278,7 +295,7 @@ void Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> o
   st.pieces = static_cast<int>(pieces_.size());
   for (auto& p : pieces_) {
     double flat = 0;
-    const FlattenReport r = p->solve(p->worker(worker), w, options_.flatten, anchor_, out, &flat);
+    const FlattenReport r = p->solve(p->worker(worker), w, options_.flatten, anchor_, out, &flat, st.hole_closure);
     st.iterations = std::max(st.iterations, r.iterations);
     st.residual = std::max(st.residual, r.residual);
     st.broken_triangles += r.broken_triangles;

@@ -26,6 +26,9 @@ struct FrameStats {
   int factorizations = 0;        // numeric Cholesky factorisations (summed over pieces)
   int chord_steps = 0;           // Newton steps that reused an earlier factorisation (summed)
   double seconds = 0;            // wall-clock time of the frame in C++
+  // Per hole (inner boundary loop, pieces in order): the translation period of the flat metric
+  // around it relative to the loop's length, which the layout spreads (see holes.h); 0 at inputs.
+  std::vector<double> hole_closure;
 };
 
 // Not thread-safe: one Interpolator per thread (frames() parallelises internally).
@@ -33,7 +36,7 @@ class Interpolator {
  public:
   // shapes: k >= 1 arrays of #V by 2 positions with the connectivity F (#F by 3). Validates everything
   // (throws InvalidInput): sizes, indices, manifoldness, disk pieces, finite coordinates, no collapsed
-  // faces in any shape, anchor vertex in range. Vertices in no face are blended linearly.
+  // faces in any shape, anchor vertex in range; pieces may have holes (holes.h). Vertices in no face are blended linearly.
   Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor = {},
                const InterpolatorOptions& options = {});
   ~Interpolator();

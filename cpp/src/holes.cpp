@@ -1,0 +1,343 @@
+#include "bdinterp/holes.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <complex>
+#include <deque>
+#include <limits>
+#include <sstream>
+
+#include "bdinterp/lobachevsky.h"
+#include "bdinterp/triangle.h"
+
+namespace bdinterp {
+namespace {
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
+
+// Lower-triangle compressed-column pattern of a symmetric matrix over n unknowns with the given
+// off-diagonal pairs; position(i, j) finds an entry.
+struct LowerPattern {
+  std::vector<int> col_ptr, rows;
+  LowerPattern(int n, std::vector<std::pair<int, int>> pairs) {
+    for (auto& p : pairs)
+      if (p.first < p.second) std::swap(p.first, p.second);  // (row, col), row > col
+    std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) {
+      return a.second != b.second ? a.second < b.second : a.first < b.first;
+    });
+    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+    col_ptr.assign(n + 1, 0);
+    size_t k = 0;
+    for (int j = 0; j < n; ++j) {
+      rows.push_back(j);
+      for (; k < pairs.size() && pairs[k].second == j; ++k) rows.push_back(pairs[k].first);
+      col_ptr[j + 1] = static_cast<int>(rows.size());
+    }
+  }
+  int position(int i, int j) const {
+    if (i < j) std::swap(i, j);
+    const auto b = rows.begin() + col_ptr[j], e = rows.begin() + col_ptr[j + 1];
+    return static_cast<int>(std::lower_bound(b, e, i) - rows.begin());
+  }
+};
+
+double signed_loop_area(const std::vector<int>& loop, const Positions& X) {
+  double a = 0;
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const auto p = X.row(loop[k]), q = X.row(loop[(k + 1) % loop.size()]);
+    a += p.x() * q.y() - p.y() * q.x();
+  }
+  return 0.5 * a;
+}
+
+// Corner positions of face f from its three squared lengths: corner 0 at the origin, corner 1 on
+// the positive x axis, corner 2 above it (counter-clockwise).
+void local_triangle(const double l2[3], std::complex<double> p[3]) {
+  const double l01 = std::sqrt(l2[2]);
+  const double cx = (l2[2] + l2[1] - l2[0]) / (2 * l01);
+  p[0] = 0;
+  p[1] = l01;
+  p[2] = {cx, std::sqrt(std::max(l2[1] - cx * cx, 0.0))};
+}
+
+}  // namespace
+
+HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece) {
+  const int nv = piece.num_vertices();
+  std::vector<std::vector<int>> all = piece.boundary_loops();
+  if (all.empty()) throw InvalidInput("a piece without boundary cannot be flattened");
+  size_t outer = 0;
+  for (size_t k = 1; k < all.size(); ++k)
+    if (std::abs(signed_loop_area(all[k], base)) > std::abs(signed_loop_area(all[outer], base))) outer = k;
+  unknown_.assign(nv, -1);
+  std::vector<double> target;
+  for (int v = 0; v < nv; ++v) {
+    if (piece.is_boundary_vertex(v) || piece.is_isolated_vertex(v)) continue;
+    unknown_[v] = n_++;
+    vertex_of_.push_back(v);
+    target.push_back(2 * kPi);
+  }
+  for (size_t k = 0; k < all.size(); ++k) {
+    if (k == outer) continue;
+    for (int v : all[k]) unknown_[v] = n_;
+    vertex_of_.push_back(all[k][0]);
+    target.push_back((static_cast<double>(all[k].size()) + 2) * kPi);
+    ++n_;
+    loops_.push_back(all[k]);
+  }
+  // Each inner loop's edges in loop order, with +1 where the edge runs E(e,0) -> E(e,1) along it.
+  const Edges& E0 = piece.edges();
+  std::vector<std::vector<int>> boundary_edges(nv);
+  for (int e = 0; e < E0.rows(); ++e)
+    if (piece.edge_faces()(e, 1) < 0) boundary_edges[E0(e, 0)].push_back(e), boundary_edges[E0(e, 1)].push_back(e);
+  for (const auto& loop : loops_) {
+    loop_edges_.emplace_back();
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const int a = loop[k], b = loop[(k + 1) % loop.size()];
+      for (int e : boundary_edges[a])
+        if (E0(e, 0) == b || E0(e, 1) == b) loop_edges_.back().push_back({e, E0(e, 0) == a ? 1.0 : -1.0});
+    }
+  }
+  target_ = Eigen::Map<Eigen::VectorXd>(target.data(), n_);
+  // The reduced Hessian: an entry for every edge between different unknowns.
+  const Edges& E = piece.edges();
+  std::vector<std::pair<int, int>> pairs;
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = unknown_[E(e, 0)], b = unknown_[E(e, 1)];
+    if (a >= 0 && b >= 0 && a != b) pairs.push_back({a, b});
+  }
+  const LowerPattern h(n_, pairs);
+  const Faces& F = piece.faces();
+  slot_a_.assign(3 * F.rows(), -1);
+  slot_b_.assign(3 * F.rows(), -1);
+  slot_off_.assign(3 * F.rows(), -1);
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int a = unknown_[F(f, (c + 1) % 3)], b = unknown_[F(f, (c + 2) % 3)];
+      if (a >= 0) slot_a_[3 * f + c] = h.position(a, a);
+      if (b >= 0) slot_b_[3 * f + c] = h.position(b, b);
+      // An edge inside one loop adds w + w - 2 w = 0 to that loop's diagonal: no entry at all.
+      if (a >= 0 && b >= 0 && a == b) slot_a_[3 * f + c] = slot_b_[3 * f + c] = -1;
+      if (a >= 0 && b >= 0 && a != b) slot_off_[3 * f + c] = h.position(a, b);
+    }
+  }
+  if (n_ > 0) chol_ = std::make_unique<SparseCholesky>(n_, h.col_ptr, h.rows);
+  hvals_.assign(h.rows.size(), 0.0);
+  grad_.resize(n_);
+  // The layout's uniform Laplacian over every vertex but one (the least-squares fit of edge vectors).
+  layout_index_.assign(nv, -1);
+  pinned_ = F(0, 0);
+  int m = 0;
+  for (int v = 0; v < nv; ++v)
+    if (v != pinned_ && !piece.is_isolated_vertex(v)) layout_index_[v] = m++;
+  pairs.clear();
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
+    if (a >= 0 && b >= 0) pairs.push_back({a, b});
+  }
+  const LowerPattern g(m, pairs);
+  layout_ = std::make_unique<SparseCholesky>(m, g.col_ptr, g.rows);
+  double* L = layout_->values();
+  std::fill(L, L + g.rows.size(), 0.0);
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
+    if (a >= 0) L[g.position(a, a)] += 1;
+    if (b >= 0) L[g.position(b, b)] += 1;
+    if (a >= 0 && b >= 0) L[g.position(a, b)] -= 1;
+  }
+  layout_->factorize();
+}
+
+HoleSolver::HoleSolver(const HoleSolver& o)
+    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_), loop_edges_(o.loop_edges_), target_(o.target_), n_(o.n_),
+      slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
+      chol_(o.chol_ ? std::make_unique<SparseCholesky>(o.chol_->clone()) : nullptr),
+      layout_(std::make_unique<SparseCholesky>(o.layout_->clone())), layout_index_(o.layout_index_),
+      pinned_(o.pinned_), grad_(o.grad_), hvals_(o.hvals_) {}
+
+HoleSolver::~HoleSolver() = default;
+
+std::unique_ptr<HoleSolver> HoleSolver::clone() const {
+  return std::unique_ptr<HoleSolver>(new HoleSolver(*this));
+}
+
+double HoleSolver::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
+                            bool want_hessian, int* broken) const {
+  const Faces& F = mesh_->faces();
+  const Faces& FE = mesh_->face_edges();
+  grad_ = target_;
+  if (want_hessian) std::fill(hvals_.begin(), hvals_.end(), 0.0);
+  double energy = 0;
+  *broken = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    double fl2[3], angle[3], cot[3];
+    for (int c = 0; c < 3; ++c) {
+      const int e = FE(f, c);
+      fl2[c] = l2[e] * std::exp(u[F(f, (c + 1) % 3)] + u[F(f, (c + 2) % 3)]);
+    }
+    *broken += triangle_angles(fl2, angle, cot) ? 1 : 0;
+    for (int c = 0; c < 3; ++c) {
+      const int k = unknown_[F(f, c)];
+      if (k >= 0) grad_[k] -= angle[c];
+      if (want_energy) {
+        const double lambda = std::log(fl2[c]);
+        energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - 0.5 * kPi * lambda;
+      }
+      if (!want_hessian) continue;
+      const double w = 0.5 * cot[c];
+      const int s = 3 * f + c;
+      if (slot_a_[s] >= 0) hvals_[slot_a_[s]] += w;
+      if (slot_b_[s] >= 0) hvals_[slot_b_[s]] += w;
+      if (slot_off_[s] >= 0) hvals_[slot_off_[s]] -= w;
+    }
+  }
+  if (want_energy)
+    for (int k = 0; k < n_; ++k) energy += target_[k] * u[vertex_of_[k]];
+  return energy;
+}
+
+double HoleSolver::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
+  int broken = 0;
+  return evaluate(l2, u, true, false, &broken);
+}
+
+Eigen::VectorXd HoleSolver::gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
+  int broken = 0;
+  evaluate(l2, u, false, false, &broken);
+  return grad_;
+}
+
+HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
+                              const FlattenOptions& options) {
+  const int nv = mesh_->num_vertices();
+  if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
+  if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
+  for (int v = 0; v < nv; ++v) u[v] = unknown_[v] < 0 ? 0.0 : u[vertex_of_[unknown_[v]]];
+  HolesReport rep;
+  FlattenReport& fr = rep.flatten;
+  int broken = 0;
+  auto residual = [&] { return n_ ? grad_.cwiseAbs().maxCoeff() : 0.0; };
+  double energy = evaluate(l2, u, true, n_ > 0, &broken);
+  fr.max_broken_triangles = broken;
+  Eigen::VectorXd step(n_), trial(nv);
+  while (residual() > options.tolerance) {
+    if (fr.iterations >= options.max_iterations) {
+      std::ostringstream s;
+      s << "flattening (piece with holes) did not converge in " << options.max_iterations
+        << " Newton steps (residual " << residual() << ")";
+      throw SolverError(s.str());
+    }
+    ++fr.iterations;
+    std::copy(hvals_.begin(), hvals_.end(), chol_->values());
+    chol_->factorize();
+    ++fr.factorizations;
+    step = -grad_;
+    chol_->solve(step.data(), step.data());
+    const double longest = step.cwiseAbs().maxCoeff();
+    if (longest > kMaxStep) step *= kMaxStep / longest;
+    const double slope = grad_.dot(step), r0 = residual();
+    const Eigen::VectorXd g0 = grad_;
+    // Armijo on the convex energy; a step that halves the residual is taken without the energy test.
+    for (double s = 1.0;; s *= 0.5) {
+      if (s < 1e-12) throw SolverError("flattening (piece with holes): line search failed");
+      for (int v = 0; v < nv; ++v) trial[v] = unknown_[v] < 0 ? 0.0 : u[v] + s * step[unknown_[v]];
+      const double e = evaluate(l2, trial, true, true, &broken);
+      if (std::isfinite(e) && (residual() <= 0.5 * r0 || e <= energy + 1e-4 * s * slope ||
+                               (std::abs(s * slope) < 1e-13 * (std::abs(energy) + 1) && residual() < r0))) {
+        energy = e;
+        break;
+      }
+      ++fr.line_search_steps;
+      grad_ = g0;
+    }
+    u.swap(trial);
+    fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
+  }
+  fr.residual = residual();
+  fr.broken_triangles = broken;
+  rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
+  return rep;
+}
+
+double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
+  const Mesh& m = *mesh_;
+  const Faces& F = m.faces();
+  const Faces& FE = m.face_edges();
+  const Edges& E = m.edges();
+  const Edges& EF = m.edge_faces();
+  // Faces placed one after another across a dual spanning tree (breadth first from face 0): each
+  // child takes its parent's direction of the shared edge, so the rotations are consistent.
+  std::vector<std::array<std::complex<double>, 3>> P(F.rows());
+  std::vector<bool> placed(F.rows(), false);
+  auto lengths = [&](int f, double out[3]) {
+    for (int c = 0; c < 3; ++c) out[c] = l2[FE(f, c)];
+  };
+  double fl2[3];
+  lengths(0, fl2);
+  local_triangle(fl2, P[0].data());
+  placed[0] = true;
+  std::deque<int> queue{0};
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop_front();
+    for (int c = 0; c < 3; ++c) {
+      const int e = FE(f, c), g = EF(e, 0) == f ? EF(e, 1) : EF(e, 0);
+      if (g < 0 || placed[g]) continue;
+      const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
+      std::complex<double> q[3];
+      lengths(g, fl2);
+      local_triangle(fl2, q);
+      int ca = 0, cb = 0;
+      for (int k = 0; k < 3; ++k) {
+        if (F(g, k) == a) ca = k;
+        if (F(g, k) == b) cb = k;
+      }
+      const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
+      const std::complex<double> r = (d / ld) / std::abs(d / ld);
+      for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
+      placed[g] = true;
+      queue.push_back(g);
+    }
+  }
+  // Every edge's vector E(e,0) -> E(e,1), averaged over its faces.
+  std::vector<std::complex<double>> d(E.rows(), 0.0);
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      const int e = FE(f, c), a = F(f, (c + 1) % 3);
+      const std::complex<double> h = P[f][(c + 2) % 3] - P[f][(c + 1) % 3];
+      d[e] += (a == E(e, 0) ? h : -h) * (EF(e, 1) >= 0 ? 0.5 : 1.0);
+    }
+  }
+  // Translation period of each hole: its edge vectors summed along the loop.
+  closure.clear();
+  for (const auto& edges : loop_edges_) {
+    std::complex<double> gap = 0;
+    double length = 0;
+    for (const auto& [e, sign] : edges) {
+      gap += sign * d[e];
+      length += std::abs(d[e]);
+    }
+    closure.push_back(std::abs(gap) / length);
+  }
+  // Least-squares fit of all edge vectors, the pinned vertex at the origin.
+  const int rows = layout_->size();
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * rows);
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
+    if (a >= 0) rhs[a] -= d[e].real(), rhs[rows + a] -= d[e].imag();
+    if (b >= 0) rhs[b] += d[e].real(), rhs[rows + b] += d[e].imag();
+  }
+  layout_->solve(rhs.data(), rhs.data(), 2);
+  X.setZero(m.num_vertices(), 2);
+  for (int v = 0; v < m.num_vertices(); ++v) {
+    const int r = layout_index_[v];
+    if (r >= 0) X(v, 0) = rhs[r], X(v, 1) = rhs[rows + r];
+  }
+  double flatness = 0;
+  for (int e = 0; e < E.rows(); ++e)
+    flatness = std::max(flatness, std::abs((X.row(E(e, 0)) - X.row(E(e, 1))).squaredNorm() / l2[e] - 1));
+  return flatness;
+}
+
+}  // namespace bdinterp
