@@ -60,6 +60,8 @@ void bind_interpolator(py::module_& m) {
            py::call_guard<py::gil_scoped_release>(),
            "Writes frame j into rows [j n, (j+1) n) of out, a C-contiguous float64 (len(ts) n, 2) array.")
       .def_property_readonly("stats", [](const Interpolator& I) { return stats_dict(I.last_stats()); })
+      .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
+           "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget,
            "Drops cached solutions and factorisations: the next frame is computed cold.")
       .def("floor_seconds", &Interpolator::floor_seconds, py::arg("repeats") = 5,

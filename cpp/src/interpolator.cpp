@@ -13,6 +13,8 @@
 #include "bdinterp/holes.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
+#include "bdinterp/orientation.h"
+#include "bdinterp/still.h"
 #include "bdinterp/parallel.h"
 
 namespace bdinterp {
@@ -155,11 +157,14 @@ struct Interpolator::PieceSolver {
 
   Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
 
-  PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
+  // still: anchor on the parts that do not move between the inputs (the default anchor, still.h).
+  PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still)
       : piece(std::move(p)),
         flattener(piece.mesh),
         layout(piece.mesh, /*own_system=*/false),
         anchor(piece.mesh, local_shapes[base], anchor_vertex) {
+    const Eigen::VectorXd region = still ? still_region(piece.mesh, anchor, local_shapes, base) : Eigen::VectorXd();
+    if (region.size() > 0) anchor.set_region(region);
     for (const Positions& X : local_shapes) {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
       frames.push_back(anchor.measure_input(X));
@@ -235,6 +240,8 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   const int nv = static_cast<int>(shapes[0].rows());
   const Mesh mesh(F, nv);
   for (int i = 0; i < num_shapes(); ++i) check_shape(mesh, shapes[i], "shape " + std::to_string(i));
+  check_orientation(mesh, shapes, options.base);
+  for (const Positions& X : shapes) folded_.push_back(bdinterp::folded_faces(mesh, shapes[options.base], X));
   if (anchor.mode != Anchor::Mode::Centroid && anchor.vertex >= 0) {
     if (anchor.vertex >= nv || mesh.is_isolated_vertex(anchor.vertex)) {
       std::ostringstream s;
@@ -268,7 +275,9 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
       const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
       if (it != p.vertices.end()) av = static_cast<int>(it - p.vertices.begin());
     }
-    pieces_.push_back(std::make_unique<PieceSolver>(std::move(p), local, options.base, av));
+    // The default anchor point (also the one an anchor path moves) is the still parts' centroid.
+    const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
+    pieces_.push_back(std::make_unique<PieceSolver>(std::move(p), local, options.base, av, still));
   }
 }
 

@@ -52,7 +52,9 @@ class Plane:
     def fit(cls, points):
         origin = points.mean(axis=0)
         _, _, vt = np.linalg.svd(points - origin, full_matrices=False)
-        return cls(origin, vt[:2].copy(), vt[2].copy())
+        # Right-handed (e1, e2, normal): the SVD's third row may be -e1 x e2, and two fits of
+        # opposite handedness would mirror one shape's plane coordinates against the other's.
+        return cls(origin, vt[:2].copy(), np.cross(vt[0], vt[1]))
 
     def to_plane(self, points, name, tolerance=PLANAR_TOLERANCE):
         """Plane coordinates (n, 2) of 3D `points`; ValueError if a point is off the plane."""

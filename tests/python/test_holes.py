@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 import bdinterp
-from holes_meshes import annulus, two_holes
+from pose_meshes import annulus, two_holes
 
 MESHES = {"annulus": annulus, "two_holes": two_holes}
 

@@ -45,6 +45,9 @@ class Interpolator {
 
   int num_shapes() const { return num_shapes_; }
   int num_vertices() const { return num_vertices_; }
+  // Faces (ascending) of input `shape` folded relative to the base shape (orientation.h); empty for
+  // the base. Inputs with more than half of a piece's faces folded are refused as mirror images.
+  const std::vector<int>& folded_faces(int shape) const { return folded_.at(shape); }
 
   // Two shapes: the in-between at t (weights (1 - t, t)); t outside [0, 1] extrapolates while the
   // metric stays valid.
@@ -84,6 +87,7 @@ class Interpolator {
   InterpolatorOptions options_;
   std::vector<std::unique_ptr<PieceSolver>> pieces_;
   std::vector<int> isolated_;
+  std::vector<std::vector<int>> folded_;  // per shape: folded_faces
   std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
   int threads_ = 0;  // 0: hardware concurrency

@@ -1,0 +1,42 @@
+#include "bdinterp/orientation.h"
+
+#include <sstream>
+
+namespace bdinterp {
+namespace {
+
+double signed_area(const Faces& F, const Positions& X, int f) {
+  const Eigen::RowVector2d a = X.row(F(f, 1)) - X.row(F(f, 0)), b = X.row(F(f, 2)) - X.row(F(f, 0));
+  return a.x() * b.y() - a.y() * b.x();
+}
+
+}  // namespace
+
+std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Positions& X) {
+  const Faces& F = mesh.faces();
+  std::vector<int> out;
+  for (int f = 0; f < F.rows(); ++f)
+    if ((signed_area(F, base, f) > 0) != (signed_area(F, X, f) > 0)) out.push_back(f);
+  return out;
+}
+
+void check_orientation(const Mesh& mesh, const std::vector<Positions>& shapes, int base) {
+  std::vector<int> faces_of_piece(mesh.num_pieces(), 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) ++faces_of_piece[mesh.piece_of_face(f)];
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    if (static_cast<int>(i) == base) continue;
+    std::vector<int> folded(mesh.num_pieces(), 0);
+    for (int f : folded_faces(mesh, shapes[base], shapes[i])) ++folded[mesh.piece_of_face(f)];
+    for (int p = 0; p < mesh.num_pieces(); ++p) {
+      if (2 * folded[p] <= faces_of_piece[p]) continue;
+      std::ostringstream s;
+      s << "shape " << i << " is a mirror image of shape " << base << ": " << folded[p] << " of "
+        << faces_of_piece[p] << " faces";
+      if (mesh.num_pieces() > 1) s << " of piece " << p;
+      s << " are reversed (a reflection cannot be reached by rotating; mirror the shape back)";
+      throw InvalidInput(s.str());
+    }
+  }
+}
+
+}  // namespace bdinterp
