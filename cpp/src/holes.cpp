@@ -122,7 +122,10 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
       if (a >= 0 && b >= 0 && a != b) slot_off_[3 * f + c] = h.position(a, b);
     }
   }
-  if (n_ > 0) chol_ = std::make_unique<SparseCholesky>(n_, h.col_ptr, h.rows);
+  if (n_ > 0) {
+    hessian_analysis_ = std::make_shared<const CholeskyAnalysis>(n_, h.col_ptr, h.rows);
+    chol_ = std::make_unique<SparseCholesky>(hessian_analysis_);
+  }
   hvals_.assign(h.rows.size(), 0.0);
   grad_.resize(n_);
   // The layout's uniform Laplacian over every vertex but one (the least-squares fit of edge vectors).
@@ -137,24 +140,33 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
     if (a >= 0 && b >= 0) pairs.push_back({a, b});
   }
   const LowerPattern g(m, pairs);
-  layout_ = std::make_unique<SparseCholesky>(m, g.col_ptr, g.rows);
-  double* L = layout_->values();
-  std::fill(L, L + g.rows.size(), 0.0);
+  layout_analysis_ = std::make_shared<const CholeskyAnalysis>(m, g.col_ptr, g.rows);
+  layout_values_.assign(g.rows.size(), 0.0);
+  double* L = layout_values_.data();
   for (int e = 0; e < E.rows(); ++e) {
     const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
     if (a >= 0) L[g.position(a, a)] += 1;
     if (b >= 0) L[g.position(b, b)] += 1;
     if (a >= 0 && b >= 0) L[g.position(a, b)] -= 1;
   }
+  factorize_layout();
+}
+
+void HoleSolver::factorize_layout() {
+  layout_ = std::make_unique<SparseCholesky>(layout_analysis_);
+  std::copy(layout_values_.begin(), layout_values_.end(), layout_->values());
   layout_->factorize();
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
     : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_), loop_edges_(o.loop_edges_), target_(o.target_), n_(o.n_),
       slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
-      chol_(o.chol_ ? std::make_unique<SparseCholesky>(o.chol_->clone()) : nullptr),
-      layout_(std::make_unique<SparseCholesky>(o.layout_->clone())), layout_index_(o.layout_index_),
-      pinned_(o.pinned_), grad_(o.grad_), hvals_(o.hvals_) {}
+      hessian_analysis_(o.hessian_analysis_), layout_analysis_(o.layout_analysis_),
+      layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_),
+      grad_(o.grad_), hvals_(o.hvals_) {
+  if (hessian_analysis_) chol_ = std::make_unique<SparseCholesky>(hessian_analysis_);
+  factorize_layout();
+}
 
 HoleSolver::~HoleSolver() = default;
 

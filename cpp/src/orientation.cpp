@@ -20,7 +20,7 @@ std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Pos
   return out;
 }
 
-void check_orientation(const Mesh& mesh, const std::vector<Positions>& shapes, int base) {
+void check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base) {
   std::vector<int> faces_of_piece(mesh.num_pieces(), 0);
   for (int f = 0; f < mesh.num_faces(); ++f) ++faces_of_piece[mesh.piece_of_face(f)];
   for (size_t i = 0; i < shapes.size(); ++i) {

@@ -35,7 +35,7 @@ class HoleSolver {
   // decides which loop is the outer one (the largest enclosed area).
   HoleSolver(const Mesh& piece, const Positions& base);
   ~HoleSolver();
-  std::unique_ptr<HoleSolver> clone() const;  // own CHOLMOD workspaces, for another thread
+  std::unique_ptr<HoleSolver> clone() const;  // own factors (shared analyses), for another thread
 
   int num_holes() const { return static_cast<int>(loops_.size()); }
   // Vertices of inner loop k in the order of the mesh's boundary loop.
@@ -74,8 +74,12 @@ class HoleSolver {
   // Per face corner c (3 f + c): Hessian positions of the diagonals of the edge's ends and of the
   // entry between them (-1: not an unknown / same unknown, see slot_same_).
   std::vector<int> slot_a_, slot_b_, slot_off_;
+  void factorize_layout();  // layout_ from layout_values_
+  // The symbolic analyses are shared by copies (one per thread); the factors are each copy's own.
+  std::shared_ptr<const CholeskyAnalysis> hessian_analysis_, layout_analysis_;
   std::unique_ptr<SparseCholesky> chol_;     // the reduced Hessian
   std::unique_ptr<SparseCholesky> layout_;   // uniform Laplacian, vertex `pinned_` removed
+  std::vector<double> layout_values_;        // its values
   std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
   int pinned_ = 0;
   mutable Eigen::VectorXd grad_;

@@ -17,6 +17,6 @@ std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Pos
 
 // Throws InvalidInput naming the shape when more than half of its faces (of one piece) are folded
 // relative to shapes[base]: "shape 1 is a mirror image of shape 0: 380 of 384 faces are reversed".
-void check_orientation(const Mesh& mesh, const std::vector<Positions>& shapes, int base);
+void check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base);
 
 }  // namespace bdinterp
