@@ -1,10 +1,10 @@
 #include "bdinterp/holes.h"
 
+#include <Eigen/LU>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <complex>
-#include <deque>
 #include <limits>
 #include <sstream>
 
@@ -15,6 +15,11 @@ namespace bdinterp {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
+// Closing the holes' periods: at most this many Newton steps on the dipoles, until every period is
+// below the tolerance (relative to the loop's length); the finite-difference step of the Jacobian.
+constexpr int kClosureIterations = 8;
+constexpr double kClosureTolerance = 1e-12;
+constexpr double kDipoleStep = 1e-6;
 
 // Lower-triangle compressed-column pattern of a symmetric matrix over n unknowns with the given
 // off-diagonal pairs; position(i, j) finds an entry.
@@ -49,16 +54,6 @@ double signed_loop_area(const std::vector<int>& loop, const Positions& X) {
     a += p.x() * q.y() - p.y() * q.x();
   }
   return 0.5 * a;
-}
-
-// Corner positions of face f from its three squared lengths: corner 0 at the origin, corner 1 on
-// the positive x axis, corner 2 above it (counter-clockwise).
-void local_triangle(const double l2[3], std::complex<double> p[3]) {
-  const double l01 = std::sqrt(l2[2]);
-  const double cx = (l2[2] + l2[1] - l2[0]) / (2 * l01);
-  p[0] = 0;
-  p[1] = l01;
-  p[2] = {cx, std::sqrt(std::max(l2[1] - cx * cx, 0.0))};
 }
 
 }  // namespace
@@ -100,6 +95,8 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
     }
   }
   target_ = Eigen::Map<Eigen::VectorXd>(target.data(), n_);
+  loop_xy_.resize(loops_.size());
+  dipole_.setZero(2 * num_holes());
   // The reduced Hessian: an entry for every edge between different unknowns.
   const Edges& E = piece.edges();
   std::vector<std::pair<int, int>> pairs;
@@ -159,7 +156,7 @@ void HoleSolver::factorize_layout() {
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_), loop_edges_(o.loop_edges_), target_(o.target_), n_(o.n_),
+    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_), loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), target_(o.target_), n_(o.n_),
       slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
       hessian_analysis_(o.hessian_analysis_), layout_analysis_(o.layout_analysis_),
       layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_),
@@ -220,18 +217,13 @@ Eigen::VectorXd HoleSolver::gradient(const Eigen::VectorXd& l2, const Eigen::Vec
   return grad_;
 }
 
-HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
-                              const FlattenOptions& options) {
+void HoleSolver::newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+                        FlattenReport& fr) const {
   const int nv = mesh_->num_vertices();
-  if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
-  if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
-  for (int v = 0; v < nv; ++v) u[v] = unknown_[v] < 0 ? 0.0 : u[vertex_of_[unknown_[v]]];
-  HolesReport rep;
-  FlattenReport& fr = rep.flatten;
   int broken = 0;
   auto residual = [&] { return n_ ? grad_.cwiseAbs().maxCoeff() : 0.0; };
   double energy = evaluate(l2, u, true, n_ > 0, &broken);
-  fr.max_broken_triangles = broken;
+  fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
   Eigen::VectorXd step(n_), trial(nv);
   while (residual() > options.tolerance) {
     if (fr.iterations >= options.max_iterations) {
@@ -268,88 +260,61 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   }
   fr.residual = residual();
   fr.broken_triangles = broken;
-  rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
-  return rep;
 }
 
-double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
-  const Mesh& m = *mesh_;
-  const Faces& F = m.faces();
-  const Faces& FE = m.face_edges();
-  const Edges& E = m.edges();
-  const Edges& EF = m.edge_faces();
-  // Faces placed one after another across a dual spanning tree (breadth first from face 0): each
-  // child takes its parent's direction of the shared edge, so the rotations are consistent.
-  std::vector<std::array<std::complex<double>, 3>> P(F.rows());
-  std::vector<bool> placed(F.rows(), false);
-  auto lengths = [&](int f, double out[3]) {
-    for (int c = 0; c < 3; ++c) out[c] = l2[FE(f, c)];
-  };
-  double fl2[3];
-  lengths(0, fl2);
-  local_triangle(fl2, P[0].data());
-  placed[0] = true;
-  std::deque<int> queue{0};
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    for (int c = 0; c < 3; ++c) {
-      const int e = FE(f, c), g = EF(e, 0) == f ? EF(e, 1) : EF(e, 0);
-      if (g < 0 || placed[g]) continue;
-      const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-      std::complex<double> q[3];
-      lengths(g, fl2);
-      local_triangle(fl2, q);
-      int ca = 0, cb = 0;
-      for (int k = 0; k < 3; ++k) {
-        if (F(g, k) == a) ca = k;
-        if (F(g, k) == b) cb = k;
-      }
-      const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
-      const std::complex<double> r = (d / ld) / std::abs(d / ld);
-      for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
-      placed[g] = true;
-      queue.push_back(g);
+void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
+  for (int k = 0; k < num_holes(); ++k) {
+    const std::vector<int>& loop = loops_[k];
+    const double base = u[loop[0]] - loop_xy_[k](0, 0) * dipole_[2 * k] - loop_xy_[k](0, 1) * dipole_[2 * k + 1];
+    for (size_t i = 0; i < loop.size(); ++i)
+      u[loop[i]] = base + loop_xy_[k](i, 0) * ab[2 * k] + loop_xy_[k](i, 1) * ab[2 * k + 1];
+  }
+  dipole_ = ab;
+}
+
+HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
+                              const FlattenOptions& options) {
+  const int nv = mesh_->num_vertices(), m = 2 * num_holes();
+  if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
+  if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
+  for (int v = 0; v < nv; ++v) u[v] = unknown_[v] < 0 ? 0.0 : u[vertex_of_[unknown_[v]]];
+  dipole_.setZero(m);  // from 0: an input's own metric closes with no dipole (exact, no extra solve)
+  // The dipoles' shape on each hole: cos and sin of the arc-length angle in the blended metric.
+  // Intrinsic, so that the pair reversed gives the same frames (base coordinates would not).
+  for (int k = 0; k < num_holes(); ++k) {
+    const auto& edges = loop_edges_[k];
+    Eigen::VectorXd s(edges.size() + 1);
+    s[0] = 0;
+    for (size_t i = 0; i < edges.size(); ++i) s[i + 1] = s[i] + std::sqrt(l2[edges[i].first]);
+    loop_xy_[k].resize(edges.size(), 2);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const double angle = 2 * kPi * s[i] / s[edges.size()];
+      loop_xy_[k].row(i) << std::cos(angle), std::sin(angle);
     }
   }
-  // Every edge's vector E(e,0) -> E(e,1), averaged over its faces.
-  std::vector<std::complex<double>> d(E.rows(), 0.0);
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int e = FE(f, c), a = F(f, (c + 1) % 3);
-      const std::complex<double> h = P[f][(c + 2) % 3] - P[f][(c + 1) % 3];
-      d[e] += (a == E(e, 0) ? h : -h) * (EF(e, 1) >= 0 ? 0.5 : 1.0);
+  HolesReport rep;
+  newton(l2, u, options, rep.flatten);
+  // Close the translation periods: u along hole k is c_k + a_k x + b_k y (base coordinates); Newton
+  // on (a, b) with a finite-difference Jacobian, each evaluation a warm-started convex solve.
+  Eigen::VectorXd period = periods(scale_lengths(*mesh_, l2, u)), ab = dipole_, trial = u;
+  Eigen::MatrixXd J(m, m);
+  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > kClosureTolerance; ++it) {
+    for (int j = 0; j < m; ++j) {
+      Eigen::VectorXd abj = ab;
+      abj[j] += kDipoleStep;
+      trial = u;
+      set_dipoles(abj, trial);
+      newton(l2, trial, options, rep.flatten);
+      J.col(j) = (periods(scale_lengths(*mesh_, l2, trial)) - period) / kDipoleStep;
     }
+    set_dipoles(ab, u);
+    ab -= J.fullPivLu().solve(period);
+    set_dipoles(ab, u);
+    newton(l2, u, options, rep.flatten);
+    period = periods(scale_lengths(*mesh_, l2, u));
   }
-  // Translation period of each hole: its edge vectors summed along the loop.
-  closure.clear();
-  for (const auto& edges : loop_edges_) {
-    std::complex<double> gap = 0;
-    double length = 0;
-    for (const auto& [e, sign] : edges) {
-      gap += sign * d[e];
-      length += std::abs(d[e]);
-    }
-    closure.push_back(std::abs(gap) / length);
-  }
-  // Least-squares fit of all edge vectors, the pinned vertex at the origin.
-  const int rows = layout_->size();
-  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * rows);
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
-    if (a >= 0) rhs[a] -= d[e].real(), rhs[rows + a] -= d[e].imag();
-    if (b >= 0) rhs[b] += d[e].real(), rhs[rows + b] += d[e].imag();
-  }
-  layout_->solve(rhs.data(), rhs.data(), 2);
-  X.setZero(m.num_vertices(), 2);
-  for (int v = 0; v < m.num_vertices(); ++v) {
-    const int r = layout_index_[v];
-    if (r >= 0) X(v, 0) = rhs[r], X(v, 1) = rhs[rows + r];
-  }
-  double flatness = 0;
-  for (int e = 0; e < E.rows(); ++e)
-    flatness = std::max(flatness, std::abs((X.row(E(e, 0)) - X.row(E(e, 1))).squaredNorm() / l2[e] - 1));
-  return flatness;
+  rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
+  return rep;
 }
 
 }  // namespace bdinterp

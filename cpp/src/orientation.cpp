@@ -2,21 +2,15 @@
 
 #include <sstream>
 
+#include "bdinterp/geometry.h"
+
 namespace bdinterp {
-namespace {
-
-double signed_area(const Faces& F, const Positions& X, int f) {
-  const Eigen::RowVector2d a = X.row(F(f, 1)) - X.row(F(f, 0)), b = X.row(F(f, 2)) - X.row(F(f, 0));
-  return a.x() * b.y() - a.y() * b.x();
-}
-
-}  // namespace
 
 std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Positions& X) {
   const Faces& F = mesh.faces();
   std::vector<int> out;
   for (int f = 0; f < F.rows(); ++f)
-    if ((signed_area(F, base, f) > 0) != (signed_area(F, X, f) > 0)) out.push_back(f);
+    if ((doubled_area(base, F, f) > 0) != (doubled_area(X, F, f) > 0)) out.push_back(f);
   return out;
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bdinterp/geometry.h"
+
 namespace bdinterp {
 
 Eigen::VectorXd still_region(const Mesh& piece, const AnchorFrame& frame, const std::vector<Positions>& shapes,
@@ -28,8 +30,7 @@ Eigen::VectorXd still_region(const Mesh& piece, const AnchorFrame& frame, const 
   if (least > band) return {};
   Eigen::VectorXd w(F.rows());
   for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::RowVector2d b1 = B.row(F(f, 1)) - B.row(F(f, 0)), b2 = B.row(F(f, 2)) - B.row(F(f, 0));
-    const double area = 0.5 * std::abs(b1.x() * b2.y() - b1.y() * b2.x());
+    const double area = 0.5 * std::abs(doubled_area(B, F, f));
     const double excess = (motion[f] - least) / band;  // the face with the least motion has 0
     w[f] = area * std::clamp(2.0 - excess, 0.0, 1.0);
   }

@@ -83,7 +83,7 @@ TEST(Holes, GradientIsTheDerivativeOfTheEnergyInTheReducedUnknowns) {
   }
 }
 
-TEST(Holes, SolvesABlendAndLaysItOutWithASmallClosureGap) {
+TEST(Holes, SolvesABlendAndClosesTheLayoutAroundTheHole) {
   const Annulus a = annulus(8, 48);
   const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
   Positions T(a.V.rows(), 2);  // a conformal target: z -> z^2 / 2 + z on the annulus (no fold)
@@ -98,7 +98,14 @@ TEST(Holes, SolvesABlendAndLaysItOutWithASmallClosureGap) {
   const HolesReport rep = solver.solve(l2, u, X);
   EXPECT_LE(rep.flatten.residual, 1e-10);
   EXPECT_GT(rep.flatten.iterations, 0);
-  for (int v : solver.hole(0)) EXPECT_EQ(u[v], u[solver.hole(0)[0]]);  // one scale per hole
+  // Without the dipoles (one scale per hole only) this blend's period is 1.05e-2 of the hole's
+  // perimeter; closing it takes a few more convex solves.
+  EXPECT_GT(rep.flatten.iterations, 2);
+  // Along the hole u is c + a cos s + b sin s: its mean over the loop's vertices is not 0 here,
+  // and u differs along the loop (the dipoles) while the interior is smooth.
+  double lo = 1e9, hi = -1e9;
+  for (int v : solver.hole(0)) lo = std::min(lo, u[v]), hi = std::max(hi, u[v]);
+  EXPECT_GT(hi - lo, 1e-4);
   ASSERT_EQ(rep.closure.size(), 1u);
   EXPECT_GT(rep.closure[0], 0.0);
   // Measured: closure 1.05e-2 of the hole's perimeter, flatness 3.0e-2 (a strong map: K up to 1.9

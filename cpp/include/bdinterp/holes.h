@@ -7,12 +7,17 @@
 // rotation. The energy is the CETM energy restricted to that linear subspace (still convex); its
 // Hessian is the cotan Laplacian with each loop's rows and columns summed.
 //
-// What one scale per hole cannot close is the translation period: the developed hole boundary may
-// miss its start by a small vector. The layout fits every edge vector in the least-squares sense
-// (uniform weights), which spreads that gap over the piece; it is reported per hole, relative to
-// the loop's length (0 at the inputs and for affine pairs, whose blended metrics are flat already).
+// One scale per hole does not close the translation period (two numbers per hole): the developed
+// hole boundary may miss its start. Two more unknowns per hole close it: u along hole k is
+// c_k + a_k cos s + b_k sin s (s: the arc-length angle along the loop in the blended metric),
+// the convex problem above is solved for fixed dipoles (a, b), and Newton on the dipoles (finite-
+// difference Jacobian, warm-started convex solves) drives every period to zero. At an input's own
+// metric the periods vanish with zero dipoles: no extra solve, inputs exact. The layout fits every
+// edge vector by least squares; the remaining period is reported per hole, relative to the loop's
+// length.
 #pragma once
 
+#include <complex>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -57,9 +62,20 @@ class HoleSolver {
 
   // Lays out flat squared lengths l2 (#E): X as above, closure per inner loop; returns flatness.
   double layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure);
+  // The holes' translation periods of flat lengths l2, relative to each loop's length: (re, im) of
+  // hole k at 2k, 2k + 1.
+  Eigen::VectorXd periods(const Eigen::VectorXd& l2) const;
 
  private:
   HoleSolver(const HoleSolver&);
+  // The convex solve for the unknowns at fixed dipoles (u along each hole = its unknown + dipole).
+  void newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+              FlattenReport& report) const;
+  // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
+  void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
+  // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
+  void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
+  Eigen::VectorXd periods_of(const std::vector<std::complex<double>>& d) const;
   // Gradient (into grad_), optionally energy and Hessian values (into chol_->values()).
   double evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
                   bool want_hessian, int* broken) const;
@@ -69,6 +85,8 @@ class HoleSolver {
   std::vector<int> unknown_;             // #V
   std::vector<int> vertex_of_;           // per unknown: a vertex of it
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
+  std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
+  Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::VectorXd target_;               // per unknown: its target angle sum
   int n_ = 0;                            // number of unknowns
   // Per face corner c (3 f + c): Hessian positions of the diagonals of the edge's ends and of the
