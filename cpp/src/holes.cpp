@@ -15,11 +15,15 @@ namespace bdinterp {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
-// Closing the holes' periods: at most this many Newton steps on the dipoles, until every period is
-// below the tolerance (relative to the loop's length); the finite-difference step of the Jacobian.
+// Closing the holes' periods: at most this many Newton steps on the dipoles, until every period
+// (relative to the loop's length) is below this fraction of the flattening's tolerance (the angle
+// residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 8;
-constexpr double kClosureTolerance = 1e-12;
+constexpr double kClosureFraction = 0.1;
 constexpr double kDipoleStep = 1e-6;
+// Chord steps (the last factorisation) are tried below this residual: at 14.7k vertices they cut
+// the factorisations of an 11-frame sweep through a Moebius pair from 88 to 8.
+constexpr double kChordResidual = 1e-2;
 
 // Lower-triangle compressed-column pattern of a symmetric matrix over n unknowns with the given
 // off-diagonal pairs; position(i, j) finds an entry.
@@ -222,32 +226,67 @@ void HoleSolver::newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Fla
   const int nv = mesh_->num_vertices();
   int broken = 0;
   auto residual = [&] { return n_ ? grad_.cwiseAbs().maxCoeff() : 0.0; };
-  double energy = evaluate(l2, u, true, n_ > 0, &broken);
+  // The energy (Lobachevsky's function per corner: most of an evaluation's cost) only when a line
+  // search needs it; steps that halve the residual are taken without it.
+  constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
+  double energy = kUnknown;
+  evaluate(l2, u, false, n_ > 0, &broken);
   fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
   Eigen::VectorXd step(n_), trial(nv);
-  while (residual() > options.tolerance) {
-    if (fr.iterations >= options.max_iterations) {
+  for (int steps = 0; residual() > options.tolerance; ++steps) {
+    if (steps >= options.max_iterations) {
       std::ostringstream s;
       s << "flattening (piece with holes) did not converge in " << options.max_iterations
         << " Newton steps (residual " << residual() << ")";
       throw SolverError(s.str());
     }
     ++fr.iterations;
+    const double r0 = residual();
+    if (factored_ && r0 < kChordResidual) {
+      // A chord step with the last factorisation (the dipoles' finite differences and the next
+      // frame start next to it); kept only if it contracts the residual 4x (slower chords cost more
+      // steps than a factorisation saves).
+      step = -grad_;
+      chol_->solve(step.data(), step.data());
+      for (int v = 0; v < nv; ++v) trial[v] = unknown_[v] < 0 ? 0.0 : u[v] + step[unknown_[v]];
+      const Eigen::VectorXd g0 = grad_;
+      evaluate(l2, trial, false, true, &broken);
+      if (residual() <= 0.25 * r0) {  // NaN fails
+        energy = kUnknown;
+        u.swap(trial);
+        ++fr.chord_steps;
+        fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
+        continue;
+      }
+      grad_ = g0;
+      evaluate(l2, u, false, true, &broken);  // the Hessian at u again
+    }
     std::copy(hvals_.begin(), hvals_.end(), chol_->values());
     chol_->factorize();
+    factored_ = true;
     ++fr.factorizations;
     step = -grad_;
     chol_->solve(step.data(), step.data());
     const double longest = step.cwiseAbs().maxCoeff();
     if (longest > kMaxStep) step *= kMaxStep / longest;
-    const double slope = grad_.dot(step), r0 = residual();
+    const double slope = grad_.dot(step);
     const Eigen::VectorXd g0 = grad_;
     // Armijo on the convex energy; a step that halves the residual is taken without the energy test.
     for (double s = 1.0;; s *= 0.5) {
       if (s < 1e-12) throw SolverError("flattening (piece with holes): line search failed");
       for (int v = 0; v < nv; ++v) trial[v] = unknown_[v] < 0 ? 0.0 : u[v] + s * step[unknown_[v]];
+      evaluate(l2, trial, false, true, &broken);
+      if (residual() <= 0.5 * r0) {
+        energy = kUnknown;
+        break;
+      }
+      if (std::isnan(energy)) {
+        const Eigen::VectorXd g = grad_;
+        energy = evaluate(l2, u, true, false, &broken);
+        grad_ = g;
+      }
       const double e = evaluate(l2, trial, true, true, &broken);
-      if (std::isfinite(e) && (residual() <= 0.5 * r0 || e <= energy + 1e-4 * s * slope ||
+      if (std::isfinite(e) && (e <= energy + 1e-4 * s * slope ||
                                (std::abs(s * slope) < 1e-13 * (std::abs(energy) + 1) && residual() < r0))) {
         energy = e;
         break;
@@ -278,7 +317,12 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
   for (int v = 0; v < nv; ++v) u[v] = unknown_[v] < 0 ? 0.0 : u[vertex_of_[unknown_[v]]];
-  dipole_.setZero(m);  // from 0: an input's own metric closes with no dipole (exact, no extra solve)
+  // The dipoles start from the last solve's (the previous frame on a slider), or from 0 with a cold
+  // start u = 0 (the interpolator's guess at an input, whose own metric closes with zero dipoles:
+  // exact in zero steps).
+  const bool cold = (u.array() == 0.0).all();
+  const Eigen::VectorXd start = dipole_.size() == m && !cold ? dipole_ : Eigen::VectorXd::Zero(m);
+  dipole_.setZero(m);
   // The dipoles' shape on each hole: cos and sin of the arc-length angle in the blended metric.
   // Intrinsic, so that the pair reversed gives the same frames (base coordinates would not).
   for (int k = 0; k < num_holes(); ++k) {
@@ -292,13 +336,14 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
       loop_xy_[k].row(i) << std::cos(angle), std::sin(angle);
     }
   }
+  set_dipoles(start, u);
   HolesReport rep;
   newton(l2, u, options, rep.flatten);
   // Close the translation periods: u along hole k is c_k + a_k x + b_k y (base coordinates); Newton
   // on (a, b) with a finite-difference Jacobian, each evaluation a warm-started convex solve.
   Eigen::VectorXd period = periods(scale_lengths(*mesh_, l2, u)), ab = dipole_, trial = u;
   Eigen::MatrixXd J(m, m);
-  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > kClosureTolerance; ++it) {
+  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > kClosureFraction * options.tolerance; ++it) {
     for (int j = 0; j < m; ++j) {
       Eigen::VectorXd abj = ab;
       abj[j] += kDipoleStep;

@@ -101,6 +101,7 @@ class HoleSolver {
   std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
   int pinned_ = 0;
   mutable Eigen::VectorXd grad_;
+  mutable bool factored_ = false;  // chol_ holds a factorisation (of some earlier u) for chord steps
   mutable std::vector<double> hvals_;
 };
 
