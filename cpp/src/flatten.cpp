@@ -170,6 +170,8 @@ SparseCholesky* Flattener::cholesky() {
   return state_->factor ? &*state_->factor : nullptr;
 }
 
+bool Flattener::has_reusable_factorization() const { return state_->factor_reusable; }
+
 void Flattener::forget() {
   state_->factor_reusable = false;
   state_->policy = State::fresh_policy(*plan_);

@@ -102,6 +102,7 @@ struct Interpolator::Workspace {
   void forget() {
     history.solved.clear();
     flattener.forget();
+    if (holes) holes->forget();
   }
 
   // The piece's frame at weights w into its rows of out (normalised coordinates).
@@ -118,16 +119,42 @@ struct Interpolator::Workspace {
       closure.insert(closure.end(), hr.closure.begin(), hr.closure.end());
       history.add(w, u);
     } else {
-      rep = flattener.solve(l2w, u, opt);
-      history.add(w, u);
-      // The layout solves with the flattening's factorised Hessian: no second factor.
-      double shift = 0;
-      SparseCholesky* W = flattener.num_interior() > 0 ? &flattener.factored_hessian(l2w, u, &shift) : nullptr;
-      layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
+      rep = solve_disk(w, opt, flatness);
     }
     if (p.mirrored) X.col(0) *= -1.0;
     p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
+    return rep;
+  }
+
+  // Steps 2 and 3 on a disk into X.
+  FlattenReport solve_disk(const Eigen::VectorXd& w, const FlattenOptions& opt, double* flatness) {
+    const bool cold = u.isZero(0.0) && !flattener.has_reusable_factorization();
+    FlattenReport rep = flattener.solve(l2w, u, opt);
+    if (rep.broken_triangles > 0 && !cold) {
+      // Broken triangles at the solution: the energy is not strictly convex there and the point
+      // reached depends on the start. Solve again as a fresh Interpolator would, so the frame does
+      // not depend on the frames before it, and keep it out of the warm-start history.
+      flattener.forget();
+      u.setZero();
+      const FlattenReport warm = rep;
+      rep = flattener.solve(l2w, u, opt);
+      rep.factorizations += warm.factorizations;
+      rep.chord_steps += warm.chord_steps;
+      rep.line_search_steps += warm.line_search_steps;
+    }
+    if (rep.broken_triangles == 0) history.add(w, u);
+    // The layout solves with the flattening's factorised Hessian: no second factor. Unless that
+    // factorisation needed a diagonal shift (a singular Hessian, e.g. broken triangles around a
+    // vertex): refining a shifted singular system fails (frames 40 % off), so the uniform Laplacian.
+    double shift = 0;
+    SparseCholesky* W = flattener.num_interior() > 0 ? &flattener.factored_hessian(l2w, u, &shift) : nullptr;
+    if (shift > 0) {
+      layout.ensure_own_system();
+      layout.embed(flattener.flat_squared_lengths(), X, flatness);
+    } else {
+      layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
+    }
     return rep;
   }
 

@@ -73,14 +73,19 @@ Layout::Layout(const Mesh& disk, bool own_system) : Layout(std::make_shared<cons
 
 Layout::Layout(std::shared_ptr<const LayoutPlan> plan, bool own_system)
     : plan_(std::move(plan)), scratch_(std::make_unique<Scratch>()) {
-  const LayoutPlan& p = *plan_;
-  const int nf = p.mesh.num_faces(), n = p.pattern.size();
+  const int nf = plan_->mesh.num_faces(), n = plan_->pattern.size();
   scratch_->local.resize(nf, 3);
   scratch_->rot.resize(nf, 2);
   scratch_->broken.resize(nf);
   scratch_->rhs.resize(2 * n);
   scratch_->row_sum.resize(n);
-  if (!own_system || n == 0) return;
+  if (own_system) ensure_own_system();
+}
+
+void Layout::ensure_own_system() {
+  const LayoutPlan& p = *plan_;
+  const int n = p.pattern.size();
+  if (own_ || n == 0) return;
   // The uniform graph Laplacian: weight 1 per edge (boundary edges in the diagonal).
   own_ = std::make_unique<SparseCholesky>(n, p.col_ptr, p.rows);
   double* W = own_->values();

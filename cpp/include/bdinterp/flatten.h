@@ -109,6 +109,8 @@ class Flattener {
   // it; the next solve() will not reuse the factorisation that was there.
   void assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   SparseCholesky* cholesky();
+  // A factorisation from an earlier solve is at hand for chord steps (see reuse_factorization).
+  bool has_reusable_factorization() const;
   // Forgets the reusable factorisation and the cost model's observations, so the next solve
   // starts as a fresh Flattener's would.
   void forget();

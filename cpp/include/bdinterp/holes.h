@@ -42,6 +42,11 @@ class HoleSolver {
   ~HoleSolver();
   std::unique_ptr<HoleSolver> clone() const;  // own factors (shared analyses), for another thread
 
+  // Drops the warm-start state (the last dipoles and factorisation): the next solve is cold.
+  void forget() {
+    dipole_.resize(0);
+    factored_ = false;
+  }
   int num_holes() const { return static_cast<int>(loops_.size()); }
   // Vertices of inner loop k in the order of the mesh's boundary loop.
   const std::vector<int>& hole(int k) const { return loops_[k]; }

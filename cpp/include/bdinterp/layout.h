@@ -75,6 +75,10 @@ class Layout {
   void embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
              double* flatness = nullptr);
 
+  // Factorises the uniform graph Laplacian for embed(l2, X) if not done yet (a Layout built without
+  // own_system, whose caller's system turned out singular).
+  void ensure_own_system();
+
   const LayoutPlan& plan() const { return *plan_; }
 
  private:
