@@ -101,7 +101,13 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
   target_ = Eigen::Map<Eigen::VectorXd>(target.data(), n_);
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
+  build_hessian_slots();
+  build_layout_system();
+}
+
+void HoleSolver::build_hessian_slots() {
   // The reduced Hessian: an entry for every edge between different unknowns.
+  const Mesh& piece = *mesh_;
   const Edges& E = piece.edges();
   std::vector<std::pair<int, int>> pairs;
   for (int e = 0; e < E.rows(); ++e) {
@@ -129,9 +135,16 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
   }
   hvals_.assign(h.rows.size(), 0.0);
   grad_.resize(n_);
+}
+
+void HoleSolver::build_layout_system() {
   // The layout's uniform Laplacian over every vertex but one (the least-squares fit of edge vectors).
+  const Mesh& piece = *mesh_;
+  const Edges& E = piece.edges();
+  const int nv = piece.num_vertices();
   layout_index_.assign(nv, -1);
-  pinned_ = F(0, 0);
+  std::vector<std::pair<int, int>> pairs;
+  pinned_ = piece.faces()(0, 0);
   int m = 0;
   for (int v = 0; v < nv; ++v)
     if (v != pinned_ && !piece.is_isolated_vertex(v)) layout_index_[v] = m++;
@@ -160,7 +173,8 @@ void HoleSolver::factorize_layout() {
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_), loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), target_(o.target_), n_(o.n_),
+    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_),
+      loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), target_(o.target_), n_(o.n_),
       slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
       hessian_analysis_(o.hessian_analysis_), layout_analysis_(o.layout_analysis_),
       layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_),

@@ -75,7 +75,8 @@ struct Interpolator::PiecePlan {
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
   std::unique_ptr<const HoleSolver> holes;  // pieces with holes: flattening and layout (holes.h)
 
-  // still: anchor on the parts that do not move between the inputs (the default anchor, still.h).
+  // still: anchor on the parts that do not move between the inputs (still.h): the default anchor,
+  // also the point an anchor path without a vertex moves.
   PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still)
       : piece(std::move(p)),
         flatten(std::make_shared<const FlattenPlan>(piece.mesh)),
@@ -111,16 +112,8 @@ struct Interpolator::Workspace {
                       std::vector<double>& closure) {
     l2w = blend_squared_lengths(p.piece.mesh, p.l2, w);
     history.predict(w, u);
-    FlattenReport rep;
-    if (holes) {
-      const HolesReport hr = holes->solve(l2w, u, X, opt);
-      rep = hr.flatten;
-      *flatness = hr.flatness;
-      closure.insert(closure.end(), hr.closure.begin(), hr.closure.end());
-      history.add(w, u);
-    } else {
-      rep = solve_disk(w, opt, flatness);
-    }
+    const FlattenReport rep = holes ? holes->solve(l2w, u, X, opt, flatness, closure) : solve_disk(w, opt, flatness);
+    if (holes) history.add(w, u);
     if (p.mirrored) X.col(0) *= -1.0;
     p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
@@ -182,10 +175,8 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
-  check_not_mirrored(mesh, unit, options.base);
-  for (const Positions& X : unit) folded_.push_back(bdinterp::folded_faces(mesh, unit[options.base], X));
+  folded_ = check_not_mirrored(mesh, unit, options.base);
   workers_.resize(1);
-  // The default anchor point (also the one an anchor path moves) is the still parts' centroid.
   const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
   for (Piece& p : split_into_pieces(mesh)) {
     std::vector<Positions> local(unit.size(), Positions(p.vertices.size(), 2));

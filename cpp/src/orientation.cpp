@@ -14,13 +14,14 @@ std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Pos
   return out;
 }
 
-void check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base) {
+std::vector<std::vector<int>> check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base) {
   std::vector<int> faces_of_piece(mesh.num_pieces(), 0);
   for (int f = 0; f < mesh.num_faces(); ++f) ++faces_of_piece[mesh.piece_of_face(f)];
+  std::vector<std::vector<int>> all;
   for (size_t i = 0; i < shapes.size(); ++i) {
-    if (static_cast<int>(i) == base) continue;
+    all.push_back(folded_faces(mesh, shapes[base], shapes[i]));
     std::vector<int> folded(mesh.num_pieces(), 0);
-    for (int f : folded_faces(mesh, shapes[base], shapes[i])) ++folded[mesh.piece_of_face(f)];
+    for (int f : all.back()) ++folded[mesh.piece_of_face(f)];
     for (int p = 0; p < mesh.num_pieces(); ++p) {
       if (2 * folded[p] <= faces_of_piece[p]) continue;
       std::ostringstream s;
@@ -31,6 +32,7 @@ void check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, 
       throw InvalidInput(s.str());
     }
   }
+  return all;
 }
 
 }  // namespace bdinterp

@@ -58,6 +58,15 @@ class HoleSolver {
   HolesReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
                     const FlattenOptions& options = {});
 
+  // The same for the interpolator: the flatness into *flatness, the closures appended to closure.
+  FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X, const FlattenOptions& options,
+                      double* flatness, std::vector<double>& closure) {
+    const HolesReport r = solve(l2, u, X, options);
+    *flatness = r.flatness;
+    closure.insert(closure.end(), r.closure.begin(), r.closure.end());
+    return r.flatten;
+  }
+
   // For tests: energy and gradient in the reduced unknowns (one per interior vertex, one per inner
   // loop); the gradient is target angle sum - angle sum, 2 pi at vertices, (n + 2) pi at loops.
   double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
@@ -97,7 +106,9 @@ class HoleSolver {
   // Per face corner c (3 f + c): Hessian positions of the diagonals of the edge's ends and of the
   // entry between them (-1: not an unknown / same unknown, see slot_same_).
   std::vector<int> slot_a_, slot_b_, slot_off_;
-  void factorize_layout();  // layout_ from layout_values_
+  void build_hessian_slots();  // the reduced Hessian's pattern, analysis and per-corner slots
+  void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
+  void factorize_layout();     // layout_ from layout_values_
   // The symbolic analyses are shared by copies (one per thread); the factors are each copy's own.
   std::shared_ptr<const CholeskyAnalysis> hessian_analysis_, layout_analysis_;
   std::unique_ptr<SparseCholesky> chol_;     // the reduced Hessian

@@ -15,8 +15,9 @@ namespace bdinterp {
 // Faces (ascending) of X (#V by 2) whose orientation is opposite to that of base (#V by 2).
 std::vector<int> folded_faces(const Mesh& mesh, const Positions& base, const Positions& X);
 
-// Throws InvalidInput naming the shape when more than half of its faces (of one piece) are folded
-// relative to shapes[base]: "shape 1 is a mirror image of shape 0: 380 of 384 faces are reversed".
-void check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base);
+// The folded faces of every shape (folded_faces against shapes[base]). Throws InvalidInput naming
+// the shape when more than half of its faces (of one piece) are folded relative to shapes[base]:
+// "shape 1 is a mirror image of shape 0: 380 of 384 faces are reversed ...".
+std::vector<std::vector<int>> check_not_mirrored(const Mesh& mesh, const std::vector<Positions>& shapes, int base);
 
 }  // namespace bdinterp
