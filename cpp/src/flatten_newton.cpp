@@ -164,7 +164,8 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
     s << "flatten: l2 has " << l2.size() << " entries for " << m.num_edges() << " edges";
     throw InvalidInput(s.str());
   }
-  for (int e = 0; e < l2.size(); ++e) {
+  const bool valid = (l2.array() > 0).all() && l2.allFinite();  // vectorised; the loop names the edge
+  for (int e = 0; !valid && e < l2.size(); ++e) {
     if (!(l2[e] > 0) || !std::isfinite(l2[e])) {
       std::ostringstream s;
       s << "flatten: squared length " << l2[e] << " of edge " << e << " (vertices " << m.edges()(e, 0) << ", "
