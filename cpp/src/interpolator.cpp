@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -239,13 +240,20 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
     out.row(isolated_[k]).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
   }
-  for (Eigen::Index v = 0; v < out.rows(); ++v) out.row(v) = out.row(v) * scale_ + offset_;
-  self_check(st, w, out);
+  // Back to the caller's coordinates, checking that every position is finite on the way.
+  bool finite = true;
+  for (Eigen::Index v = 0; v < out.rows(); ++v) {
+    const double x = out(v, 0) * scale_ + offset_[0], y = out(v, 1) * scale_ + offset_[1];
+    out(v, 0) = x;
+    out(v, 1) = y;
+    finite &= std::abs(x) <= DBL_MAX && std::abs(y) <= DBL_MAX;
+  }
+  if (!finite) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
+  self_check(st, w);
   return st;
 }
 
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const {
-  if (!out.allFinite()) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
+void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
   std::ostringstream s;
   if (st.broken_triangles > 0)
     s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";

@@ -99,7 +99,8 @@ class Interpolator {
   void prepare_workers(int workers);
   // One frame into out (in the caller's coordinates); `worker` selects the workspaces.
   FrameStats solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker);
-  void self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const;
+  // Flags (or, strict, raises on) broken triangles and a large flatness residual in st.
+  void self_check(FrameStats& st, const Eigen::VectorXd& w) const;
 
   int num_shapes_ = 0, num_vertices_ = 0;
   Anchor anchor_;  // in the normalised frame
