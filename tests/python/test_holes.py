@@ -118,3 +118,25 @@ def test_baselines_accept_holes(method):
     for t, key in ((0.0, V), (1.0, T)):
         X = bdinterp.interpolate(V, T, F, t, method=method)
         assert np.abs(X - key).max() <= 1e-9 * np.ptp(V, axis=0).max()
+
+
+def test_clockwise_faces_vertex_anchor_and_three_shape_blends_with_holes():
+    V, F = two_holes(8)
+    kinds = targets(V)
+    size = np.ptp(V, axis=0).max()
+    # Clockwise faces (the mesh mirrored): the same frames, mirrored back.
+    cw = bdinterp.Interpolator([V * [-1, 1], kinds["swirl"] * [-1, 1]], F[:, ::-1])
+    ccw = bdinterp.Interpolator([V, kinds["swirl"]], F)
+    assert np.abs(cw.at(0.4) * [-1, 1] - ccw.at(0.4)).max() <= 1e-9 * size
+    # A vertex anchor on the inner loop follows its straight path.
+    v = int(np.argmin(np.hypot(V[:, 0] - 0.5, V[:, 1] - 0.5)))
+    X = bdinterp.interpolate(V, kinds["bend"], F, 0.3, anchor=v)
+    np.testing.assert_allclose(X[v], 0.7 * V[v] + 0.3 * kinds["bend"][v], atol=1e-12)
+    # Three shapes: each input exact at its own weights, closed holes in between.
+    I = bdinterp.Interpolator([V, kinds["swirl"], kinds["moebius"]], F)
+    for k, key in enumerate((V, kinds["swirl"], kinds["moebius"])):
+        w = np.eye(3)[k]
+        assert np.abs(I.blend(w) - key).max() <= 1e-9 * size
+    X = I.blend([0.2, 0.4, 0.4])
+    assert bdinterp.flipped_faces(V, X, F) == 0
+    assert max(I.stats["hole_closure"]) <= 1e-9
