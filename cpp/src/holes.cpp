@@ -16,10 +16,9 @@ namespace {
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
 // Closing the holes' periods: at most this many Newton steps on the dipoles, until every period
-// (relative to the loop's length) is below this fraction of the flattening's tolerance (the angle
-// residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
-constexpr int kClosureIterations = 8;
-constexpr double kClosureFraction = 0.1;
+// (relative to the loop's length) is below the flattening's tolerance (the angle residual limits
+// the periods' accuracy to about that); the finite-difference step of the Jacobian.
+constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
 // Chord steps (the last factorisation) are tried below this residual: at 14.7k vertices they cut
 // the factorisations of an 11-frame sweep through a Moebius pair from 88 to 8.
@@ -325,6 +324,25 @@ void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
   dipole_ = ab;
 }
 
+Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
+                                            const Eigen::VectorXd& period, const FlattenOptions& options,
+                                            FlattenReport& report) {
+  const int m = 2 * num_holes();
+  const Eigen::VectorXd ab = dipole_;
+  Eigen::MatrixXd J(m, m);
+  Eigen::VectorXd trial;
+  for (int j = 0; j < m; ++j) {
+    Eigen::VectorXd abj = ab;
+    abj[j] += kDipoleStep;
+    trial = u;
+    set_dipoles(abj, trial);
+    newton(l2, trial, options, report);
+    J.col(j) = (periods(scale_lengths(*mesh_, l2, trial)) - period) / kDipoleStep;
+    set_dipoles(ab, trial);  // dipole_ back to ab
+  }
+  return J;
+}
+
 HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
                               const FlattenOptions& options) {
   const int nv = mesh_->num_vertices(), m = 2 * num_holes();
@@ -355,22 +373,31 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   newton(l2, u, options, rep.flatten);
   // Close the translation periods: u along hole k is c_k + a_k x + b_k y (base coordinates); Newton
   // on (a, b) with a finite-difference Jacobian, each evaluation a warm-started convex solve.
-  Eigen::VectorXd period = periods(scale_lengths(*mesh_, l2, u)), ab = dipole_, trial = u;
-  Eigen::MatrixXd J(m, m);
-  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > kClosureFraction * options.tolerance; ++it) {
-    for (int j = 0; j < m; ++j) {
-      Eigen::VectorXd abj = ab;
-      abj[j] += kDipoleStep;
-      trial = u;
-      set_dipoles(abj, trial);
-      newton(l2, trial, options, rep.flatten);
-      J.col(j) = (periods(scale_lengths(*mesh_, l2, trial)) - period) / kDipoleStep;
-    }
-    set_dipoles(ab, u);
-    ab -= J.fullPivLu().solve(period);
+  Eigen::VectorXd period = periods(scale_lengths(*mesh_, l2, u)), ab = dipole_;
+  // The Jacobian is kept across frames (it changes slowly along a slider) and updated by Broyden's
+  // rule; it is recomputed by finite differences when missing or when a step fails to halve the
+  // periods.
+  bool fresh = false;
+  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > options.tolerance; ++it) {
+    if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, rep.flatten), fresh = true;
+    const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
+    ab += delta;
     set_dipoles(ab, u);
     newton(l2, u, options, rep.flatten);
-    period = periods(scale_lengths(*mesh_, l2, u));
+    const Eigen::VectorXd next = periods(scale_lengths(*mesh_, l2, u));
+    const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
+    if (!halved && fresh) {  // the accuracy of the periods (~ the flattening's tolerance) is reached
+      period = next;
+      break;
+    }
+    if (halved) {
+      jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      fresh = false;
+    } else {
+      jacobian_ = dipole_jacobian(l2, u, next, options, rep.flatten);
+      fresh = true;
+    }
+    period = next;
   }
   rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
   return rep;

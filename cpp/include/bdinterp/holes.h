@@ -45,6 +45,7 @@ class HoleSolver {
   // Drops the warm-start state (the last dipoles and factorisation): the next solve is cold.
   void forget() {
     dipole_.resize(0);
+    jacobian_.resize(0, 0);
     factored_ = false;
   }
   int num_holes() const { return static_cast<int>(loops_.size()); }
@@ -87,6 +88,9 @@ class HoleSolver {
               FlattenReport& report) const;
   // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
   void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
+  // d periods / d dipoles at u (whose periods are `period`) by finite differences.
+  Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
+                                  const FlattenOptions& options, FlattenReport& report);
   // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
   void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
   Eigen::VectorXd periods_of(const std::vector<std::complex<double>>& d) const;
@@ -101,6 +105,7 @@ class HoleSolver {
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
+  Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)
   Eigen::VectorXd target_;               // per unknown: its target angle sum
   int n_ = 0;                            // number of unknowns
   // Per face corner c (3 f + c): Hessian positions of the diagonals of the edge's ends and of the
