@@ -28,6 +28,7 @@ LayoutPlan::LayoutPlan(const Mesh& disk) : mesh(disk) {
   const Edges& EF = disk.edge_faces();
   root = disk.central_face();
   tree = disk.dual_walk({root});
+  std::vector<int> col_ptr, rows;  // needed by ensure_own_system only, which builds them again
   pattern = interior_pattern(disk, col_ptr, rows);
   // The boundary half-edges (each face's half-edge c runs from corner c+1 to corner c+2, so the
   // interior lies to their left), chained into the loop from its smallest vertex.
@@ -87,7 +88,9 @@ void Layout::ensure_own_system() {
   const int n = p.pattern.size();
   if (own_ || n == 0) return;
   // The uniform graph Laplacian: weight 1 per edge (boundary edges in the diagonal).
-  own_ = std::make_unique<SparseCholesky>(n, p.col_ptr, p.rows);
+  std::vector<int> col_ptr, rows;
+  interior_pattern(p.mesh, col_ptr, rows);
+  own_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
   double* W = own_->values();
   const Edges& E = p.mesh.edges();
   for (int e = 0; e < E.rows(); ++e) {
