@@ -59,6 +59,8 @@ void bind_interpolator(py::module_& m) {
             return I.last_stats();
           },
           "FrameStats of the last at()/blend(), or of all frames of frames_into().")
+      .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
+           "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),
            "Drops cached solutions and factorisations: the next frame is computed cold.")
       .def("floor_seconds", &Interpolator::floor_seconds, py::arg("repeats") = 5, Release(),

@@ -43,6 +43,8 @@ void bind_stats(py::module_& m) {
         "every frame passed the self-check (finite, no broken triangles, flat layout)");
   field(cls, *names, "warnings", &FrameStats::warnings,
         "why not, naming the first failing frame; empty when converged");
+  field(cls, *names, "hole_closure", &FrameStats::hole_closure,
+        "per hole: the translation period of the flat metric around it / the hole's perimeter");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {

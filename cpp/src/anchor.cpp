@@ -47,6 +47,14 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
   weight_ /= weight_.sum();
 }
 
+void AnchorFrame::set_region(const Eigen::VectorXd& face_weight) {
+  if (face_weight.size() != mesh_->num_faces() || !(face_weight.minCoeff() >= 0) || !(face_weight.sum() > 0))
+    throw InvalidInput("anchor region: need one non-negative weight per face, not all zero");
+  for (size_t k = 0; k < tree_.size(); ++k) weight_[static_cast<Eigen::Index>(k)] = face_weight[tree_[k][0]];
+  weight_ /= weight_.sum();
+  region_ = true;
+}
+
 double AnchorFrame::base_area(int f) const { return 0.5 * std::abs(doubled_area(base_, mesh_->faces(), f)); }
 
 Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
@@ -71,7 +79,8 @@ Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
     const double num_re = (e1x * b[2] + e1y * b[3]) - (e2x * b[0] + e2y * b[1]);
     const double num_im = (e1y * b[2] - e1x * b[3]) - (e2y * b[0] - e2x * b[1]);
     raw[k] = fast_atan2(num_re, -num_im);
-    const double a = e1x * e2y - e1y * e2x;
+    // The centroid of the region given by set_region, else the whole piece's (area-weighted).
+    const double a = region_ ? weight_[k] : e1x * e2y - e1y * e2x;
     sx += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
     sy += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
     area += a;

@@ -41,7 +41,7 @@ ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& tar
   check_shape(mesh, target, "target");
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (mesh.is_isolated_vertex(v)) isolated_.push_back(v);
-  for (Piece& p : split_into_disks(mesh)) {
+  for (Piece& p : split_into_pieces(mesh)) {
     auto d = std::make_unique<PieceData>(std::move(p));
     const Mesh& m = d->piece.mesh;
     const Faces& PF = m.faces();

@@ -1,6 +1,7 @@
 #include "bdinterp/distortion.h"
 
 #include <Eigen/Dense>
+#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -30,6 +31,14 @@ void for_each_jacobian(const Eigen::Ref<const Positions>& X0, const Eigen::Ref<c
         X0(F(f, 1), 1) - X0(F(f, 0), 1), X0(F(f, 2), 1) - X0(F(f, 0), 1);
     D1 << X1(F(f, 1), 0) - X1(F(f, 0), 0), X1(F(f, 2), 0) - X1(F(f, 0), 0),
         X1(F(f, 1), 1) - X1(F(f, 0), 1), X1(F(f, 2), 1) - X1(F(f, 0), 1);
+    // K and the area ratio do not change when both D0 and D1 are scaled alike: scale by a power of
+    // two (exactly) to D0's size, so coordinates of any magnitude (1e-150 .. 1e150) do not overflow.
+    const double size = D0.cwiseAbs().maxCoeff();
+    if (size > 0 && size <= DBL_MAX) {
+      const double scale = std::ldexp(1.0, -std::ilogb(size));
+      D0 *= scale;
+      D1 *= scale;
+    }
     const double det0 = D0.determinant();
     if (!(std::abs(det0) > 0)) {
       std::ostringstream s;

@@ -122,12 +122,13 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
   }
   double energy = 0;
   int broken = 0;
+  // One contiguous block of faces per thread, each with its own accumulators.
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(+ : energy, broken)
-  for (long f = 0; f < nf; ++f) {
-    const int k = parallel::thread_index();
+  for (int k = 0; k < threads; ++k) {
     Accumulator a{sum_parts_.buffer(k, out.defect.data()), re_parts_.buffer(k, corner_re_.data()),
                   im_parts_.buffer(k, corner_im_.data()), H ? hessian_parts_.buffer(k, H) : nullptr};
-    accumulate_face(plan_->slots[f], out, want_energy, a);
+    const long end = nf * (k + 1) / threads;
+    for (long f = nf * k / threads; f < end; ++f) accumulate_face(plan_->slots[f], out, want_energy, a);
     energy += a.energy;
     broken += a.broken;
   }
@@ -158,13 +159,16 @@ void EnergyEvaluator::assemble_hessian(const Evaluation& at, double* H) {
   hessian_parts_.prepare(threads, size);
   for (int k = 0; k < threads; ++k) std::fill_n(hessian_parts_.buffer(k, H), size, 0.0);
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (long f = 0; f < nf; ++f) {
-    const FaceSlots& s = plan_->slots[f];
-    const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
-    const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};
-    double cot[3];
-    if (!triangle_cotangents_from_lengths(l, l2, cot))
-      scatter_cotangents(cot, s, hessian_parts_.buffer(parallel::thread_index(), H));
+  for (int k = 0; k < threads; ++k) {  // one contiguous block of faces per thread
+    double* h = hessian_parts_.buffer(k, H);
+    const long end = nf * (k + 1) / threads;
+    for (long f = nf * k / threads; f < end; ++f) {
+      const FaceSlots& s = plan_->slots[f];
+      const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
+      const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};
+      double cot[3];
+      if (!triangle_cotangents_from_lengths(l, l2, cot)) scatter_cotangents(cot, s, h);
+    }
   }
   hessian_parts_.add_into(H);
 }

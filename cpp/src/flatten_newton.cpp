@@ -4,6 +4,7 @@
 //     with an earlier factorisation, accepted if it halves the residual;
 //   - otherwise a Newton step with a fresh factorisation and a line search on the energy.
 // `cur` always describes u; candidates are evaluated into `trial` and swapped in when accepted.
+#include <cfloat>
 #include <cmath>
 #include <sstream>
 
@@ -164,7 +165,9 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
     s << "flatten: l2 has " << l2.size() << " entries for " << m.num_edges() << " edges";
     throw InvalidInput(s.str());
   }
-  for (int e = 0; e < l2.size(); ++e) {
+  bool valid = true;  // one branch-free pass; the loop below names the edge
+  for (Eigen::Index e = 0; e < l2.size(); ++e) valid &= l2[e] > 0 && l2[e] <= DBL_MAX;
+  for (int e = 0; !valid && e < l2.size(); ++e) {
     if (!(l2[e] > 0) || !std::isfinite(l2[e])) {
       std::ostringstream s;
       s << "flatten: squared length " << l2[e] << " of edge " << e << " (vertices " << m.edges()(e, 0) << ", "

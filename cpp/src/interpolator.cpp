@@ -3,6 +3,7 @@
 #include <dlfcn.h>
 
 #include <algorithm>
+#include <cfloat>
 #include <chrono>
 #include <cmath>
 #include <exception>
@@ -10,8 +11,11 @@
 #include <thread>
 
 #include "bdinterp/geometry.h"
+#include "bdinterp/holes.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
+#include "bdinterp/orientation.h"
+#include "bdinterp/still.h"
 #include "bdinterp/parallel.h"
 #include "detail/validation.h"
 #include "detail/warm_start.h"
@@ -54,6 +58,9 @@ void merge(FrameStats& into, const FrameStats& s) {
   into.pieces = s.pieces;
   into.converged = into.converged && s.converged;
   if (into.warnings.empty()) into.warnings = s.warnings;
+  into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
+  for (size_t k = 0; k < s.hole_closure.size(); ++k)
+    into.hole_closure[k] = std::max(into.hole_closure[k], s.hole_closure[k]);
 }
 
 }  // namespace
@@ -67,13 +74,19 @@ struct Interpolator::PiecePlan {
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
+  std::unique_ptr<const HoleSolver> holes;  // pieces with holes: flattening and layout (holes.h)
 
-  PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
+  // still: anchor on the parts that do not move between the inputs (still.h): the default anchor,
+  // also the point an anchor path without a vertex moves.
+  PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still)
       : piece(std::move(p)),
         flatten(std::make_shared<const FlattenPlan>(piece.mesh)),
         layout(std::make_shared<const LayoutPlan>(piece.mesh)),
         anchor(piece.mesh, local_shapes[base], anchor_vertex),
         mirrored(doubled_total_area(local_shapes[base], piece.mesh.faces()) < 0) {
+    if (piece.mesh.boundary_loops().size() > 1) holes = std::make_unique<const HoleSolver>(piece.mesh, local_shapes[base]);
+    const Eigen::VectorXd region = still ? still_region(piece.mesh, anchor, local_shapes, base) : Eigen::VectorXd();
+    if (region.size() > 0) anchor.set_region(region);
     for (const Positions& X : local_shapes) {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
       frames.push_back(anchor.measure_input(X));
@@ -86,18 +99,30 @@ struct Interpolator::PiecePlan {
 struct Interpolator::Workspace {
   explicit Workspace(const PiecePlan& p)
       : flattener(p.flatten), layout(p.layout, /*own_system=*/false),
-        u(Eigen::VectorXd::Zero(p.piece.mesh.num_vertices())) {}
+        holes(p.holes ? p.holes->clone() : nullptr), u(Eigen::VectorXd::Zero(p.piece.mesh.num_vertices())) {}
 
   void forget() {
     history.solved.clear();
     flattener.forget();
+    if (holes) holes->forget();
   }
 
   // The piece's frame at weights w into its rows of out (normalised coordinates).
   FlattenReport solve(const PiecePlan& p, const Eigen::VectorXd& w, const FlattenOptions& opt,
-                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) {
+                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness,
+                      std::vector<double>& closure) {
     l2w = blend_squared_lengths(p.piece.mesh, p.l2, w);
     history.predict(w, u);
+    const FlattenReport rep = holes ? holes->solve(l2w, u, X, opt, flatness, closure) : solve_disk(w, opt, flatness);
+    if (holes) history.add(w, u);
+    if (p.mirrored) X.col(0) *= -1.0;
+    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
+    for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
+    return rep;
+  }
+
+  // Steps 2 and 3 on a disk into X.
+  FlattenReport solve_disk(const Eigen::VectorXd& w, const FlattenOptions& opt, double* flatness) {
     const bool cold = u.isZero(0.0) && !flattener.has_reusable_factorization();
     FlattenReport rep = flattener.solve(l2w, u, opt);
     if (rep.broken_triangles > 0 && !cold) {
@@ -124,14 +149,12 @@ struct Interpolator::Workspace {
     } else {
       layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
     }
-    if (p.mirrored) X.col(0) *= -1.0;
-    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
-    for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
     return rep;
   }
 
   Flattener flattener;
   Layout layout;
+  std::unique_ptr<HoleSolver> holes;
   detail::History history;
   Eigen::VectorXd u, l2w;
   Positions X;
@@ -153,8 +176,10 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
+  folded_ = check_not_mirrored(mesh, unit, options.base);
   workers_.resize(1);
-  for (Piece& p : split_into_disks(mesh)) {
+  const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
+  for (Piece& p : split_into_pieces(mesh)) {
     std::vector<Positions> local(unit.size(), Positions(p.vertices.size(), 2));
     for (size_t i = 0; i < unit.size(); ++i) {
       for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = unit[i].row(p.vertices[k]);
@@ -162,7 +187,7 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     }
     const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
-    plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av));
+    plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av, still));
     workers_[0].push_back(std::make_unique<Workspace>(*plans_.back()));
   }
 }
@@ -208,20 +233,27 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
   st.pieces = static_cast<int>(plans_.size());
   for (size_t p = 0; p < plans_.size(); ++p) {
     double flat = 0;
-    merge(st, workers_[worker][p]->solve(*plans_[p], w, options_.flatten, anchor_, out, &flat));
+    merge(st, workers_[worker][p]->solve(*plans_[p], w, options_.flatten, anchor_, out, &flat, st.hole_closure));
     st.flatness = std::max(st.flatness, flat);
   }
   for (size_t k = 0; k < isolated_.size(); ++k) {
     out.row(isolated_[k]).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
   }
-  for (Eigen::Index v = 0; v < out.rows(); ++v) out.row(v) = out.row(v) * scale_ + offset_;
-  self_check(st, w, out);
+  // Back to the caller's coordinates, checking that every position is finite on the way.
+  bool finite = true;
+  for (Eigen::Index v = 0; v < out.rows(); ++v) {
+    const double x = out(v, 0) * scale_ + offset_[0], y = out(v, 1) * scale_ + offset_[1];
+    out(v, 0) = x;
+    out(v, 1) = y;
+    finite &= std::abs(x) <= DBL_MAX && std::abs(y) <= DBL_MAX;
+  }
+  if (!finite) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
+  self_check(st, w);
   return st;
 }
 
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const {
-  if (!out.allFinite()) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
+void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
   std::ostringstream s;
   if (st.broken_triangles > 0)
     s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";

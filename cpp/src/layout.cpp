@@ -28,6 +28,7 @@ LayoutPlan::LayoutPlan(const Mesh& disk) : mesh(disk) {
   const Edges& EF = disk.edge_faces();
   root = disk.central_face();
   tree = disk.dual_walk({root});
+  std::vector<int> col_ptr, rows;  // needed by ensure_own_system only, which builds them again
   pattern = interior_pattern(disk, col_ptr, rows);
   // The boundary half-edges (each face's half-edge c runs from corner c+1 to corner c+2, so the
   // interior lies to their left), chained into the loop from its smallest vertex.
@@ -87,7 +88,9 @@ void Layout::ensure_own_system() {
   const int n = p.pattern.size();
   if (own_ || n == 0) return;
   // The uniform graph Laplacian: weight 1 per edge (boundary edges in the diagonal).
-  own_ = std::make_unique<SparseCholesky>(n, p.col_ptr, p.rows);
+  std::vector<int> col_ptr, rows;
+  interior_pattern(p.mesh, col_ptr, rows);
+  own_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
   double* W = own_->values();
   const Edges& E = p.mesh.edges();
   for (int e = 0; e < E.rows(); ++e) {
@@ -234,22 +237,25 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
   s.rhs_parts.prepare(threads, 2 * n);
   for (int k = 0; k < threads; ++k) std::fill_n(s.rhs_parts.buffer(k, s.rhs.data()), 2 * n, 0.0);
 #pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int f = 0; f < nf; ++f) {
-    double* b = s.rhs_parts.buffer(parallel::thread_index(), s.rhs.data());
-    double local[3][2];
-    local_half_edges(&s.local(f, 0), local);
-    const double rc = s.rot(f, 0), rs = s.rot(f, 1);
-    for (int c = 0; c < 3; ++c) {
-      const int p = pattern.edge_pos[FE(f, c)];
-      if (p < 0) continue;
-      const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
-      // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
-      const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
-      const double w = 0.5 * M[p];  // = -(half the weight)
-      b[i] += w * d0;
-      b[n + i] += w * d1;
-      b[j] -= w * d0;
-      b[n + j] -= w * d1;
+  for (int k = 0; k < threads; ++k) {  // one contiguous block of faces per thread
+    double* b = s.rhs_parts.buffer(k, s.rhs.data());
+    const int end = static_cast<int>(static_cast<long>(nf) * (k + 1) / threads);
+    for (int f = static_cast<int>(static_cast<long>(nf) * k / threads); f < end; ++f) {
+      double local[3][2];
+      local_half_edges(&s.local(f, 0), local);
+      const double rc = s.rot(f, 0), rs = s.rot(f, 1);
+      for (int c = 0; c < 3; ++c) {
+        const int p = pattern.edge_pos[FE(f, c)];
+        if (p < 0) continue;
+        const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
+        // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
+        const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
+        const double w = 0.5 * M[p];  // = -(half the weight)
+        b[i] += w * d0;
+        b[n + i] += w * d1;
+        b[j] -= w * d0;
+        b[n + j] -= w * d1;
+      }
     }
   }
   s.rhs_parts.add_into(s.rhs.data());

@@ -245,7 +245,8 @@ int Mesh::central_face() const {
   return last;
 }
 
-std::vector<Piece> split_into_disks(const Mesh& mesh) {
+namespace {
+std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
   const int np = mesh.num_pieces();
   std::vector<int> loops_per_piece(np, 0);
   for (size_t k = 0; k < mesh.boundary_loops().size(); ++k) ++loops_per_piece[mesh.loop_piece(k)];
@@ -254,7 +255,7 @@ std::vector<Piece> split_into_disks(const Mesh& mesh) {
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (mesh.piece_of_vertex(v) >= 0) pv[mesh.piece_of_vertex(v)].push_back(v);
   for (int p = 0; p < np; ++p) {
-    if (loops_per_piece[p] == 1) continue;
+    if (loops_per_piece[p] == 1 || (allow_holes && loops_per_piece[p] > 1)) continue;
     std::ostringstream s;
     s << "piece " << p << " (faces " << pf[p].front() << ".." << pf[p].back() << ", " << pv[p].size()
       << " vertices) ";
@@ -280,6 +281,10 @@ std::vector<Piece> split_into_disks(const Mesh& mesh) {
   }
   return pieces;
 }
+}  // namespace
+
+std::vector<Piece> split_into_disks(const Mesh& mesh) { return split(mesh, false); }
+std::vector<Piece> split_into_pieces(const Mesh& mesh) { return split(mesh, true); }
 
 InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows) {
   InteriorPattern p;

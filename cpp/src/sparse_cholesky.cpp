@@ -57,15 +57,21 @@ struct Common {
   Common& operator=(const Common&) = delete;
 };
 
-// A packed lower-triangular CHOLMOD matrix with the pattern (values zero).
-cholmod_sparse* allocate_pattern(const CholeskyAnalysis& a, cholmod_common& common) {
-  const size_t nnz = a.row_indices().size();
-  cholmod_sparse* A = cholmod_allocate_sparse(a.size(), a.size(), nnz, /*sorted=*/1, /*packed=*/1,
-                                              /*stype=*/-1, CHOLMOD_REAL, &common);
-  check(common, "allocate");
-  std::copy(a.column_pointers().begin(), a.column_pointers().end(), static_cast<int*>(A->p));
-  std::copy(a.row_indices().begin(), a.row_indices().end(), static_cast<int*>(A->i));
-  std::fill_n(static_cast<double*>(A->x), nnz, 0.0);
+// A packed lower-triangular CHOLMOD view of the analysis' pattern (no copy) with the values x
+// (null: the pattern alone).
+cholmod_sparse view(const CholeskyAnalysis& a, double* x) {
+  cholmod_sparse A{};
+  A.nrow = A.ncol = static_cast<size_t>(a.size());
+  A.nzmax = a.row_indices().size();
+  A.p = const_cast<int*>(a.column_pointers().data());  // CHOLMOD reads the pattern, never writes it
+  A.i = const_cast<int*>(a.row_indices().data());
+  A.x = x;
+  A.stype = -1;
+  A.itype = CHOLMOD_INT;
+  A.xtype = x ? CHOLMOD_REAL : CHOLMOD_PATTERN;
+  A.dtype = CHOLMOD_DOUBLE;
+  A.sorted = 1;
+  A.packed = 1;
   return A;
 }
 
@@ -86,14 +92,13 @@ CholeskyAnalysis::CholeskyAnalysis(int n, std::vector<int> col_ptr, std::vector<
   }
   impl_ = std::make_unique<Impl>(n);
   cholmod_common& c = impl_->common.c;
-  cholmod_sparse* A = allocate_pattern(*this, c);
-  impl_->L = cholmod_analyze(A, &c);
+  cholmod_sparse A = view(*this, nullptr);
+  impl_->L = cholmod_analyze(&A, &c);
   if (!impl_->L) {  // a CHOLMOD built without METIS: default orderings
     c.nmethods = 0;
     c.status = CHOLMOD_OK;
-    impl_->L = cholmod_analyze(A, &c);
+    impl_->L = cholmod_analyze(&A, &c);
   }
-  cholmod_free_sparse(&A, &c);
   check(c, "analyze");
   factor_flops_ = c.fl;
   solve_flops_ = 4.0 * c.lnz;
@@ -103,7 +108,8 @@ CholeskyAnalysis::~CholeskyAnalysis() = default;
 
 struct SparseCholesky::Impl {
   Common common;
-  cholmod_sparse* A = nullptr;
+  std::vector<double> values;  // in the order of the pattern
+  cholmod_sparse A;            // the analysis' pattern with `values`
   cholmod_factor* L = nullptr;
   cholmod_dense* B = nullptr;
   cholmod_dense* X = nullptr;
@@ -113,8 +119,8 @@ struct SparseCholesky::Impl {
   bool factored = false;
   mutable parallel::Partials product_parts;  // other threads' shares of multiply()
 
-  explicit Impl(const CholeskyAnalysis& a, const cholmod_factor* symbolic) : common(a.size()) {
-    A = allocate_pattern(a, common.c);
+  explicit Impl(const CholeskyAnalysis& a, const cholmod_factor* symbolic)
+      : common(a.size()), values(a.row_indices().size(), 0.0), A(view(a, values.data())) {
     L = cholmod_copy_factor(const_cast<cholmod_factor*>(symbolic), &common.c);
     check(common.c, "copy");
   }
@@ -124,7 +130,6 @@ struct SparseCholesky::Impl {
     cholmod_free_dense(&Y, &common.c);
     cholmod_free_dense(&E, &common.c);
     cholmod_free_factor(&L, &common.c);
-    cholmod_free_sparse(&A, &common.c);
   }
   void ensure_rhs(int n, int k) {
     if (B && ncols == k) return;
@@ -146,15 +151,15 @@ SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
-double* SparseCholesky::values() { return static_cast<double*>(impl_->A->x); }
-const double* SparseCholesky::values() const { return static_cast<const double*>(impl_->A->x); }
+double* SparseCholesky::values() { return impl_->values.data(); }
+const double* SparseCholesky::values() const { return impl_->values.data(); }
 bool SparseCholesky::factored() const { return impl_->factored; }
 bool SparseCholesky::factor_is_ll() const { return impl_->factored && impl_->L->is_ll; }
 
 void SparseCholesky::factorize() {
   Impl& m = *impl_;
   m.factored = false;
-  cholmod_factorize(m.A, m.L, &m.common.c);
+  cholmod_factorize(&m.A, m.L, &m.common.c);
   if (m.common.c.status == CHOLMOD_NOT_POSDEF) {
     throw SolverError("matrix is not positive definite (CHOLMOD stopped at column " +
                       std::to_string(m.L->minor) + ")");

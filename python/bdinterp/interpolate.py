@@ -134,8 +134,17 @@ class Interpolator:
         """FrameStats of the last at()/blend() (or of all frames of the last frames()): attributes
         (and keys) iterations, residual (max |2 pi - angle sum|), broken_triangles,
         max_broken_triangles, line_search_steps, flatness, pieces, factorizations, chord_steps,
-        seconds, converged (the self-check passed), warnings (why not)."""
+        seconds, converged (the self-check passed), warnings (why not), hole_closure (per hole:
+        the translation period of the flat metric around it relative to the hole's perimeter)."""
         return self._core.stats
+
+    def folded_faces(self, shape):
+        """(j,) indices of the faces of input `shape` that are folded (reversed) relative to the
+        base shape, ascending; empty for the base. An input folded on more than half of a piece's
+        faces is a mirror image and is refused with a ValueError when the Interpolator is made."""
+        if not 0 <= int(shape) < self._k:
+            raise ValueError(f"shape {shape} out of range [0, {self._k})")
+        return np.asarray(self._core.folded_faces(int(shape)), dtype=np.int64)
 
 
 def _method(method):

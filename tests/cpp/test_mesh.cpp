@@ -79,3 +79,39 @@ TEST(Mesh, IsolatedVerticesBelongToNoPiece) {
 
 }  // namespace
 }  // namespace bdinterp
+
+namespace bdinterp {
+namespace {
+
+TEST(Mesh, DualWalkReachesEveryFaceOnceAcrossSharedEdges) {
+  const auto m = testing::jittered_grid(9, 7, 1.0, 1.0, 4);
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  for (int e = 0; e < mesh.num_edges(); ++e) {
+    const int f = mesh.edge_faces()(e, 0), g = mesh.edge_faces()(e, 1);
+    EXPECT_EQ(mesh.opposite_face(e, f), g);
+    if (g >= 0) EXPECT_EQ(mesh.opposite_face(e, g), f);
+    EXPECT_EQ(mesh.face_edges()(f, mesh.corner_of_edge(f, e)), e);
+  }
+  const auto walk = mesh.dual_walk({5});
+  ASSERT_EQ(static_cast<int>(walk.size()), mesh.num_faces() - 1);
+  std::vector<int> order(mesh.num_faces(), -1);
+  order[5] = 0;
+  for (size_t k = 0; k < walk.size(); ++k) {
+    const Mesh::DualStep& s = walk[k];
+    EXPECT_EQ(order[s.face], -1) << "face " << s.face << " reached twice";
+    EXPECT_GE(order[s.parent], 0) << "parent of " << s.face << " not reached before it";
+    order[s.face] = static_cast<int>(k) + 1;
+    EXPECT_EQ(mesh.face_edges()(s.face, s.face_corner), mesh.face_edges()(s.parent, s.parent_corner));
+  }
+  // The central face: as far from the boundary as the walk goes, i.e. in the middle of the grid.
+  const int c = mesh.central_face();
+  Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_FALSE(mesh.is_boundary_vertex(m.F(c, k)));
+    centre += m.V.row(m.F(c, k)) / 3.0;
+  }
+  EXPECT_LT((centre - Eigen::RowVector2d(0.5, 0.5)).norm(), 0.25);
+}
+
+}  // namespace
+}  // namespace bdinterp

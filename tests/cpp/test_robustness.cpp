@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "bdinterp/baselines.h"
+#include "bdinterp/distortion.h"
 #include "bdinterp/interpolator.h"
 #include "test_checks.h"
 #include "test_meshes.h"
@@ -148,6 +149,18 @@ TEST_F(BentBar, CoordinatesOfAnyMagnitudeGiveTheScaledFrames) {
   const Eigen::RowVector2d far(1e12, -3e12);
   Interpolator moved({(m.V.rowwise() + far).eval(), (bent.rowwise() + far).eval()}, m.F), unit({m.V, bent}, m.F);
   EXPECT_LT(max_abs((moved.at(0.4).rowwise() - far) - unit.at(0.4)), 1e-3);  // 1e12 * 1e-15
+}
+
+TEST_F(BentBar, DistortionOfAnyMagnitude) {
+  Interpolator I({m.V, bent}, m.F);
+  const Positions X = I.at(0.5);
+  const Eigen::VectorXd K = conformal_distortion(m.V, X, m.F), A = area_ratio(m.V, X, m.F);
+  EXPECT_GT(K.maxCoeff(), 1.01);
+  for (const double scale : {1e150, 1e-150}) {
+    const Positions V = scale * m.V, Y = scale * X;
+    EXPECT_LT((conformal_distortion(V, Y, m.F) - K).cwiseAbs().maxCoeff(), 1e-12 * K.maxCoeff()) << scale;
+    EXPECT_LT((area_ratio(V, Y, m.F) - A).cwiseAbs().maxCoeff(), 1e-12 * A.cwiseAbs().maxCoeff()) << scale;
+  }
 }
 
 TEST_F(BentBar, BadParametersAreRejectedByName) {

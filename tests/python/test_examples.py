@@ -16,7 +16,7 @@ from bdinterp_tools import convergence, meshes
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[2] / "examples"
 NAMES = ["bar_half_bent", "spiral", "affine", "conformal", "teichmuller",
-         "folded", "character"]
+         "folded", "character", "letter_8"]
 TS = np.linspace(0.0, 1.0, 11)
 
 # Discrete bounded distortion holds only up to the discretisation error of

@@ -49,6 +49,10 @@ class AnchorFrame {
   // or -1 for the centroid.
   AnchorFrame(const Mesh& disk, const Positions& base, int vertex);
 
+  // Replaces the region (whole piece or the anchor vertex's faces) by face weights (#F, >= 0, not
+  // all 0): the anchor point becomes the weighted mean of the face centroids, the angle the weighted
+  // mean rotation. Call before measuring the inputs. Throws InvalidInput for bad weights.
+  void set_region(const Eigen::VectorXd& face_weight);
   // Anchor of input shape X: the angle is on the branch where the bulk turns least.
   Frame2 measure_input(const Positions& X) const;
   // Rigidly moves X so that its anchor becomes `target` (its own branch is irrelevant here).
@@ -72,6 +76,7 @@ class AnchorFrame {
   std::vector<std::array<int, 2>> tree_;  // dual breadth-first order: (face, parent's slot in tree_)
   Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor> base_edges_;  // per slot: s b1, s b2
   Eigen::VectorXd weight_;                // per slot: share of the region's base area (sums to 1)
+  bool region_ = false;                   // weight_ set by set_region (a weighted point, too)
 };
 
 // The anchor of an in-between: the weighted blend of the inputs' anchors (path-corrected in Path mode).

@@ -36,6 +36,9 @@ struct FrameStats : FlattenReport {
   double seconds = 0;     // wall-clock time of the call in C++
   bool converged = true;  // every frame passed the self-check (see InterpolatorOptions)
   std::string warnings;   // why not, naming the first failing frame; empty when converged
+  // Per hole (inner boundary loop, pieces in order): the translation period of the flat metric
+  // around it relative to the loop's length, which the layout spreads (see holes.h); 0 at inputs.
+  std::vector<double> hole_closure;
 };
 
 // Thread safety: every public member may be called from any thread; calls on one Interpolator are
@@ -44,8 +47,9 @@ struct FrameStats : FlattenReport {
 class Interpolator {
  public:
   // shapes: k >= 1 arrays of #V by 2 positions with the connectivity F (#F by 3). Validates everything
-  // (throws InvalidInput): sizes, indices, manifoldness, disk pieces, finite coordinates, no collapsed
-  // faces in any shape, signed face areas that do not cancel, the anchor and the options. Vertices
+  // (throws InvalidInput): sizes, indices, manifoldness, pieces with boundary, finite coordinates, no collapsed
+  // faces in any shape, signed face areas that do not cancel, no mirror image of the base (orientation.h), the anchor
+  // and the options; pieces may have holes (holes.h). Vertices
   // in no face are blended linearly. Coordinates of any magnitude (1e-150 .. 1e150) are solved
   // alike: the shapes are moved and scaled (by a power of two) to unit size inside.
   Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor = {},
@@ -56,6 +60,9 @@ class Interpolator {
 
   int num_shapes() const { return num_shapes_; }
   int num_vertices() const { return num_vertices_; }
+  // Faces (ascending) of input `shape` folded relative to the base shape (orientation.h); empty for
+  // the base. Inputs with more than half of a piece's faces folded are refused as mirror images.
+  const std::vector<int>& folded_faces(int shape) const { return folded_.at(shape); }
 
   // Two shapes: the in-between at t (weights (1 - t, t)); t outside [0, 1] extrapolates while the
   // metric stays valid. InvalidInput for a non-finite t.
@@ -92,7 +99,8 @@ class Interpolator {
   void prepare_workers(int workers);
   // One frame into out (in the caller's coordinates); `worker` selects the workspaces.
   FrameStats solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker);
-  void self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const;
+  // Flags (or, strict, raises on) broken triangles and a large flatness residual in st.
+  void self_check(FrameStats& st, const Eigen::VectorXd& w) const;
 
   int num_shapes_ = 0, num_vertices_ = 0;
   Anchor anchor_;  // in the normalised frame
@@ -103,6 +111,7 @@ class Interpolator {
   // workers_[k][p]: worker k's workspace for piece p (worker 0 serves at/blend and keeps history).
   std::vector<std::vector<std::unique_ptr<Workspace>>> workers_;
   std::vector<int> isolated_;
+  std::vector<std::vector<int>> folded_;  // per shape: folded_faces
   std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
   mutable std::mutex mutex_;

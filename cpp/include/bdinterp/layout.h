@@ -43,7 +43,6 @@ struct LayoutPlan {
 
   const Mesh& mesh;
   InteriorPattern pattern;
-  std::vector<int> col_ptr, rows;   // the interior pattern (see interior_pattern)
   int root = 0;                     // the central face, in the layout frame's orientation
   std::vector<Mesh::DualStep> tree;  // breadth-first from the root (not listed)
   std::vector<int> loop;            // the boundary vertices in order (interior on the left)

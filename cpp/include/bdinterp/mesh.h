@@ -98,5 +98,7 @@ InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, st
 // Splits `mesh` into its pieces and checks each is a topological disk (exactly one boundary loop);
 // throws InvalidInput for a piece with holes or without boundary.
 std::vector<Piece> split_into_disks(const Mesh& mesh);
+// The same but allowing holes (pieces with several boundary loops); throws only for closed pieces.
+std::vector<Piece> split_into_pieces(const Mesh& mesh);
 
 }  // namespace bdinterp
