@@ -50,8 +50,9 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
     ints = ("iterations", "broken_triangles", "max_broken_triangles", "line_search_steps", "pieces",
             "factorizations", "chord_steps")
     floats = ("residual", "flatness", "seconds")
-    assert set(st.keys()) == set(ints + floats + ("converged", "warnings"))
+    assert set(st.keys()) == set(ints + floats + ("converged", "warnings", "hole_closure"))
     assert st.converged is True and st.warnings == ""
+    assert st.hole_closure == []  # a disk has no holes
     for k in ints:
         assert type(getattr(st, k)) is int and st[k] == getattr(st, k)
     for k in floats:
