@@ -131,24 +131,21 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
   re_parts_.prepare(threads, rows);
   im_parts_.prepare(threads, rows);
   if (H) hessian_parts_.prepare(threads, nnz_ + 1);
-  double energy = 0;
-  int broken = 0;
-#pragma omp parallel num_threads(threads) if (threads > 1) reduction(+ : energy, broken)
-  {
-    // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
-#pragma omp for schedule(static)
-    for (Eigen::Index v = 0; v < nv; ++v) exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]);
-#pragma omp for schedule(static)
-    for (Eigen::Index e = 0; e < ne; ++e) {
-      scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
-      scaled_len_[e] = std::sqrt(scaled_l2_[e]);
-    }
+  parallel::PerChunk energies(threads), brokens(threads);
+  // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
+  parallel::for_each(threads, nv, [&](int, long v) { exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]); });
+  parallel::for_each(threads, ne, [&](int, long e) {
+    scaled_l2_[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
+    scaled_len_[e] = std::sqrt(scaled_l2_[e]);
+  });
+  parallel::run(threads, [&](int k) {
+    double energy = 0;
+    int broken = 0;
     // Angle sums without an arctangent per corner: by the half-angle formula, half the angle at
     // corner c is arg(p x_c + i q) (p the perimeter, x_c Kahan's excess, q = 4 area; accurate for
     // needles), so each vertex multiplies its corners' factors and takes one argument at the end
     // (turn() counts the whole turns): the products hold half the angle sums. Broken faces add
     // (pi, 0, 0), halved, directly. Per-thread arrays.
-    const int k = parallel::thread_index();
     double* sum = sum_parts_.buffer(k, grad_.data());
     double* re = re_parts_.buffer(k, corner_re_.data());
     double* im = im_parts_.buffer(k, corner_im_.data());
@@ -157,8 +154,8 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
     std::fill_n(re, rows, 1.0);
     std::fill_n(im, rows, 0.0);
     if (h) std::fill_n(h, nnz_ + 1, 0.0);
-#pragma omp for schedule(static)
-    for (Eigen::Index f = 0; f < nf; ++f) {
+    const auto [first, last] = parallel::share(nf, k, threads);
+    for (Eigen::Index f = first; f < last; ++f) {
       const FaceSlots& s = slots_[f];
       const double l[3] = {scaled_len_[s.edge[0]], scaled_len_[s.edge[1]], scaled_len_[s.edge[2]]};
       const double fl2[3] = {scaled_l2_[s.edge[0]], scaled_l2_[s.edge[1]], scaled_l2_[s.edge[2]]};
@@ -189,17 +186,20 @@ Flattener::Eval Flattener::evaluate(const Eigen::VectorXd& l2, const Eigen::Vect
         scatter_cotangents(cot, s.diag, s.off, h);
       }
     }
-    // The angle sums, every thread's share, into the gradient 2 pi - sum.
-#pragma omp for schedule(static)
-    for (int i = 0; i < num_interior_; ++i) {
-      double total = 0;
-      for (int t = 0; t < threads; ++t) {
-        total += sum_parts_.buffer(t, grad_.data())[i] +
-                 argument(re_parts_.buffer(t, corner_re_.data())[i], im_parts_.buffer(t, corner_im_.data())[i]);
-      }
-      grad_[i] = kTwoPi - 2 * total;  // the products hold half the angle sums
+    energies.at(k) = energy;
+    brokens.at(k) = broken;
+  });
+  // The angle sums, every chunk's share, into the gradient 2 pi - sum.
+  parallel::for_each(threads, num_interior_, [&](int, long i) {
+    double total = 0;
+    for (int t = 0; t < threads; ++t) {
+      total += sum_parts_.buffer(t, grad_.data())[i] +
+               argument(re_parts_.buffer(t, corner_re_.data())[i], im_parts_.buffer(t, corner_im_.data())[i]);
     }
-  }
+    grad_[i] = kTwoPi - 2 * total;  // the products hold half the angle sums
+  });
+  double energy = energies.sum();
+  const int broken = static_cast<int>(brokens.sum());
   grad_[num_interior_] = 0;
   if (H) hessian_parts_.add_into(H);
   if (want_energy) {

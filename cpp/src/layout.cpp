@@ -184,8 +184,7 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   const int threads = parallel::loop_threads(nf);
   // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
   // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry).
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int f = 0; f < nf; ++f) {
+  parallel::for_each(threads, nf, [&](int, long f) {
     const int* fe = &FE(f, 0);
     const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
     const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
@@ -202,7 +201,7 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
       cy = 0.0;
     }
     local_.row(f) << l[2], cx, cy;
-  }
+  });
   // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
   // the same vector seen from both faces, run in opposite directions, so
   // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a face
@@ -245,14 +244,13 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   }
   if (n > 0) solve_interior(*W, shift, X);
   if (flatness) {
-    double worst = 0;
+    parallel::PerChunk worst(threads);
     const Edges& E = m.edges();
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(max : worst)
-    for (int e = 0; e < E.rows(); ++e) {
+    parallel::for_each(threads, E.rows(), [&](int k, long e) {
       const double dx = X(E(e, 1), 0) - X(E(e, 0), 0), dy = X(E(e, 1), 1) - X(E(e, 0), 1);
-      worst = std::max(worst, std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
-    }
-    *flatness = worst;
+      worst.at(k) = std::max(worst.at(k), std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
+    });
+    *flatness = worst.max();
   }
 }
 
@@ -278,12 +276,11 @@ void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
   const int threads = parallel::loop_threads(nf);
   rhs_.setZero();
   rhs_parts_.prepare(threads, 2 * n);
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    double* b = rhs_parts_.buffer(parallel::thread_index(), rhs_.data());
+  parallel::run(threads, [&](int k) {
+    double* b = rhs_parts_.buffer(k, rhs_.data());
     if (b != rhs_.data()) std::fill_n(b, 2 * n, 0.0);
-#pragma omp for schedule(static)
-    for (int f = 0; f < nf; ++f) {
+    const auto [first, last] = parallel::share(nf, k, threads);
+    for (int f = first; f < last; ++f) {
       double h[3][2];  // the face's half-edges, rotated into the layout frame
       double local[3][2];
       local_half_edges(&local_(f, 0), local);
@@ -304,7 +301,7 @@ void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
         b[n + j] -= w * d[1];
       }
     }
-  }
+  });
   rhs_parts_.add_into(rhs_.data());
   for (const Tie& t : ties_) {
     double d[2];
