@@ -1,5 +1,6 @@
 #include "bdinterp/parallel.h"
 
+#include <dlfcn.h>
 #include <pthread.h>
 
 #include <algorithm>
@@ -163,8 +164,37 @@ void detail::run(int chunks, ChunkFn fn, void* context) {
   for (int k = 0; k < chunks; ++k) fn(context, k);
 }
 
-ThreadLimit::ThreadLimit(int threads) : saved_(limit) { limit = threads; }
-ThreadLimit::~ThreadLimit() { limit = saved_; }
+namespace {
+// CHOLMOD (Debian's libcholmod links libgomp) runs parallel regions of a fixed 4 threads inside
+// supernodal factorisations (CHOLMOD_OMP_NUM_THREADS), whatever bdinterp's own threading: on two
+// busy cores those regions wait for threads that are not scheduled. OpenMP's dynamic adjustment,
+// set for the calling thread only (it is a per-thread setting), lets libgomp shrink such a team
+// to the idle cores (online CPUs minus the load average). Looked up at run time: bdinterp itself
+// does not link OpenMP.
+struct OmpDynamic {
+  void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
+  int (*get)() = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
+};
+const OmpDynamic& omp_dynamic() {
+  static const OmpDynamic f;
+  return f;
+}
+}  // namespace
+
+ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
+  limit = threads;
+  const OmpDynamic& omp = omp_dynamic();
+  if (omp.set && omp.get) {
+    saved_dynamic_ = omp.get();
+    omp.set(1);
+  }
+}
+
+ThreadLimit::~ThreadLimit() {
+  limit = saved_;
+  const OmpDynamic& omp = omp_dynamic();
+  if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
+}
 
 void Partials::prepare(int threads, long size) {
   threads_ = threads;

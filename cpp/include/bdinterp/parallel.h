@@ -50,7 +50,9 @@ void for_each(int chunks, long n, Body&& body) {
   });
 }
 
-// While alive, loops started on this thread use at most `threads` chunks (0: no limit).
+// While alive, loops started on this thread use at most `threads` chunks (0: no limit), and
+// OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
+// for when the machine is busy (omp_set_dynamic(1), if libgomp is loaded; restored afterwards).
 class ThreadLimit {
  public:
   explicit ThreadLimit(int threads);
@@ -60,6 +62,7 @@ class ThreadLimit {
 
  private:
   int saved_;
+  int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
 };
 
 // Per-chunk accumulation buffers for scatter-adds and reductions (chunk 0 writes into the caller's
