@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <deque>
 #include <numeric>
 #include <sstream>
 
+#include "bdinterp/geometry.h"
 #include "bdinterp/parallel.h"
 #include "bdinterp/triangle.h"
 
@@ -26,20 +26,11 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     if (F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex) in_region[f] = true;
   // Unwrapping order: breadth-first over the dual graph from face 0.
   std::vector<int> slot_of(F.rows(), -1);
-  std::deque<int> queue{0};
   slot_of[0] = 0;
   tree_.push_back({0, -1});
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    for (int c = 0; c < 3; ++c) {
-      const int e = disk.face_edges()(f, c);
-      const int g = disk.edge_faces()(e, 0) == f ? disk.edge_faces()(e, 1) : disk.edge_faces()(e, 0);
-      if (g < 0 || slot_of[g] >= 0) continue;
-      slot_of[g] = static_cast<int>(tree_.size());
-      tree_.push_back({g, slot_of[f]});
-      queue.push_back(g);
-    }
+  for (const Mesh::DualStep& st : disk.dual_walk({0})) {
+    slot_of[st.face] = static_cast<int>(tree_.size());
+    tree_.push_back({st.face, slot_of[st.parent]});
   }
   // Per slot: the base edges b1, b2, pre-multiplied by the orientation sign s of the base face, and
   // the face's share of the region's base area.
@@ -49,19 +40,14 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     const int f = tree_[k][0];
     const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
     const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
-    const double s = b1.x() * b2.y() - b1.y() * b2.x() < 0 ? -1.0 : 1.0;
+    const double s = doubled_area(base_, F, f) < 0 ? -1.0 : 1.0;
     base_edges_.row(static_cast<Eigen::Index>(k)) << s * b1.x(), s * b1.y(), s * b2.x(), s * b2.y();
     weight_[static_cast<Eigen::Index>(k)] = in_region[f] ? base_area(f) : 0.0;
   }
   weight_ /= weight_.sum();
 }
 
-double AnchorFrame::base_area(int f) const {
-  const Faces& F = mesh_->faces();
-  const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
-  const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
-  return 0.5 * std::abs(b1.x() * b2.y() - b1.y() * b2.x());
-}
+double AnchorFrame::base_area(int f) const { return 0.5 * std::abs(doubled_area(base_, mesh_->faces(), f)); }
 
 Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
   // The affine map J (base edges b_k -> edges e_k) written as J z = a z + b conj(z): its closest

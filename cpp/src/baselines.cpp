@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "bdinterp/anchor.h"
+#include "bdinterp/geometry.h"
 #include "bdinterp/metric_blend.h"
 #include "bdinterp/sparse_cholesky.h"
 
@@ -17,6 +18,7 @@ Positions linear_interpolate(const Positions& source, const Positions& target, d
     s << "source has " << source.rows() << " vertices, target has " << target.rows();
     throw InvalidInput(s.str());
   }
+  if (!std::isfinite(t)) throw InvalidInput("t must be finite (got " + std::to_string(t) + ")");
   return (1.0 - t) * source + t * target;
 }
 
@@ -31,21 +33,6 @@ struct ArapInterpolator::PieceData {
   explicit PieceData(Piece p) : piece(std::move(p)) {}
 };
 
-namespace {
-
-Eigen::Vector2d centroid(const Positions& X, const Faces& F) {
-  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
-  double area = 0;
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::RowVector2d a = X.row(F(f, 1)) - X.row(F(f, 0)), b = X.row(F(f, 2)) - X.row(F(f, 0));
-    const double A = 0.5 * (a.x() * b.y() - a.y() * b.x());
-    sum += A * (X.row(F(f, 0)) + X.row(F(f, 1)) + X.row(F(f, 2))).transpose() / 3.0;
-    area += A;
-  }
-  return sum / area;
-}
-
-}  // namespace
 
 ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& target, const Faces& F)
     : source_(source), target_(target) {
@@ -104,8 +91,8 @@ ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& tar
     d->chol = std::make_unique<SparseCholesky>(n, col_ptr, rows);
     std::copy(vals.begin(), vals.end(), d->chol->values());
     d->chol->factorize();
-    d->c0 = centroid(X0, PF);
-    d->c1 = centroid(X1, PF);
+    d->c0 = area_centroid(X0, PF);
+    d->c1 = area_centroid(X1, PF);
     pieces_.push_back(std::move(d));
   }
 }
@@ -113,7 +100,7 @@ ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& tar
 ArapInterpolator::~ArapInterpolator() = default;
 
 Positions ArapInterpolator::at(double t) {
-  if (!std::isfinite(t)) throw InvalidInput("t must be finite");
+  if (!std::isfinite(t)) throw InvalidInput("t must be finite (got " + std::to_string(t) + ")");
   Positions out = linear_interpolate(source_, target_, t);  // isolated vertices keep this
   for (auto& d : pieces_) {
     const Mesh& m = d->piece.mesh;
@@ -136,7 +123,7 @@ Positions ArapInterpolator::at(double t) {
       d->chol->solve(rhs.data(), rhs.data(), 2);
       for (int v = 1; v <= n; ++v) X.row(v) << rhs[v - 1], rhs[n + v - 1];
     }
-    const Eigen::Vector2d shift = (1 - t) * d->c0 + t * d->c1 - centroid(X, PF);
+    const Eigen::Vector2d shift = (1 - t) * d->c0 + t * d->c1 - area_centroid(X, PF);
     for (size_t k = 0; k < d->piece.vertices.size(); ++k)
       out.row(d->piece.vertices[k]) = X.row(k) + shift.transpose();
   }

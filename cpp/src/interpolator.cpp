@@ -1,103 +1,28 @@
 #include "bdinterp/interpolator.h"
 
-#include <algorithm>
 #include <dlfcn.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <deque>
 #include <exception>
 #include <sstream>
 #include <thread>
 
+#include "bdinterp/geometry.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 #include "bdinterp/parallel.h"
+#include "detail/validation.h"
+#include "detail/warm_start.h"
 
 namespace bdinterp {
-
 namespace {
+using detail::check_orientation;
+using detail::validate_anchor;
+using detail::validate_options;
+using detail::weights_text;
 
-// Solved frames of one piece, for warm starts: the last few (weights, u) pairs, newest first.
-struct History {
-  static constexpr size_t kSize = 6;
-  std::deque<std::pair<Eigen::VectorXd, Eigen::VectorXd>> solved;
-
-  void add(const Eigen::VectorXd& w, const Eigen::VectorXd& u) {
-    if (solved.size() == kSize) {
-      solved.back().first = w;  // reuse the oldest entry's storage
-      solved.back().second = u;
-      solved.push_front(std::move(solved.back()));
-      solved.pop_back();
-    } else {
-      solved.emplace_front(w, u);
-    }
-  }
-
-  // Initial guess for weights w: polynomial extrapolation (degree <= 5) along the line through the
-  // nearest solved frame and w, over the solved frames that lie on that line, as long as the
-  // extrapolation is well conditioned (sum of |Lagrange weights| <= 80, which admits degree 5 on
-  // equally spaced frames: 63); else the nearest solution; zero (exact at the inputs) without
-  // history. On a slider the guess is then limited by the earlier solutions' own tolerance rather
-  // than by the truncation error (at 5k vertices: geometric-mean residual of the guess 2.4e-9 at
-  // degree 3, 6.8e-10 at degree 5; a quarter of the frames need no CG iteration instead of 7 %).
-  void predict(const Eigen::VectorXd& w, Eigen::VectorXd& u) const {
-    // An input shape's own metric is flat: u = 0 reproduces it exactly, in no step.
-    const bool input_shape = (w.array() == 0.0).count() == w.size() - 1;
-    if (solved.empty() || input_shape) {
-      u.setZero();
-      return;
-    }
-    size_t nearest = 0;
-    for (size_t k = 1; k < solved.size(); ++k)
-      if ((solved[k].first - w).squaredNorm() < (solved[nearest].first - w).squaredNorm()) nearest = k;
-    const Eigen::VectorXd& w0 = solved[nearest].first;
-    const Eigen::VectorXd d = w - w0;
-    const double dd = d.squaredNorm();
-    u = solved[nearest].second;
-    if (dd == 0) return;
-    // Parameter s along w0 + s d (w at s = 1) of every solved frame on that line.
-    std::vector<std::pair<double, size_t>> nodes{{0.0, nearest}};
-    for (size_t k = 0; k < solved.size(); ++k) {
-      if (k == nearest) continue;
-      const Eigen::VectorXd q = solved[k].first - w0;
-      const double sk = q.dot(d) / dd;
-      if ((q - sk * d).norm() <= 1e-12 * (1.0 + w0.norm()) && std::abs(sk) > 1e-12) nodes.push_back({sk, k});
-    }
-    std::sort(nodes.begin(), nodes.end(), [](const auto& a, const auto& b) {
-      return std::abs(1.0 - a.first) < std::abs(1.0 - b.first);
-    });
-    for (size_t m = std::min(nodes.size(), kSize); m >= 2; --m) {
-      double L[kSize], total = 0;
-      for (size_t i = 0; i < m; ++i) {
-        L[i] = 1.0;
-        for (size_t j = 0; j < m; ++j)
-          if (j != i) L[i] *= (1.0 - nodes[j].first) / (nodes[i].first - nodes[j].first);
-        total += std::abs(L[i]);
-      }
-      if (!(total <= 80.0)) continue;
-      u = L[0] * solved[nodes[0].second].second;
-      for (size_t i = 1; i < m; ++i) u += L[i] * solved[nodes[i].second].second;
-      return;
-    }
-  }
-};
-
-// Statistics over several frames: the worst of each measure, the sum of the work done.
-void merge(FrameStats& into, const FrameStats& s) {
-  into.iterations = std::max(into.iterations, s.iterations);
-  into.residual = std::max(into.residual, s.residual);
-  into.broken_triangles = std::max(into.broken_triangles, s.broken_triangles);
-  into.max_broken_triangles = std::max(into.max_broken_triangles, s.max_broken_triangles);
-  into.flatness = std::max(into.flatness, s.flatness);
-  into.factorizations += s.factorizations;
-  into.chord_steps += s.chord_steps;
-  into.pieces = s.pieces;
-}
-
-// OpenBLAS runs threads of its own inside CHOLMOD's supernodal solves; next to one worker per core
-// they only compete (measured at 50k vertices: parallel frames 1.0x faster with them, 1.24x without).
-// While the workers run, OpenBLAS (if it is the BLAS in use) is limited to one thread.
 class SingleThreadedBlas {
  public:
   explicit SingleThreadedBlas(bool active) {
@@ -122,140 +47,146 @@ class SingleThreadedBlas {
   int saved_ = 1;
 };
 
+// Frames merged: the flattening's reports by their one rule, the worst flatness, the first warning.
+void merge(FrameStats& into, const FrameStats& s) {
+  merge(static_cast<FlattenReport&>(into), s);
+  into.flatness = std::max(into.flatness, s.flatness);
+  into.pieces = s.pieces;
+  into.converged = into.converged && s.converged;
+  if (into.warnings.empty()) into.warnings = s.warnings;
+}
+
 }  // namespace
 
-// Everything about one disk-shaped piece of the mesh.
-struct Interpolator::PieceSolver {
-  // What one thread needs to solve frames of this piece: solvers with their own CHOLMOD workspaces
-  // and the warm-start history.
-  struct Workspace {
-    Flattener* flattener;
-    Layout* layout;
-    std::unique_ptr<Flattener> own_flattener;
-    std::unique_ptr<Layout> own_layout;
-    History history;
-    Eigen::VectorXd u, l2w;
-    Positions X;
-  };
-
+// Everything about one disk-shaped piece that does not change: read-only, shared by the workers.
+struct Interpolator::PiecePlan {
   Piece piece;
   std::vector<Eigen::VectorXd> l2;  // per input shape: squared edge lengths
-  Flattener flattener;
-  Layout layout;
+  std::shared_ptr<const FlattenPlan> flatten;
+  std::shared_ptr<const LayoutPlan> layout;
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
-  Workspace main{&flattener, &layout, nullptr, nullptr, {}, {}, {}, {}};
-  std::vector<std::unique_ptr<Workspace>> extra;  // workers 1, 2, ... of frames()
 
-  Workspace& worker(int k) { return k == 0 ? main : *extra[k - 1]; }
-
-  PieceSolver(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
+  PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex)
       : piece(std::move(p)),
-        flattener(piece.mesh),
-        layout(piece.mesh, /*own_system=*/false),
-        anchor(piece.mesh, local_shapes[base], anchor_vertex) {
+        flatten(std::make_shared<const FlattenPlan>(piece.mesh)),
+        layout(std::make_shared<const LayoutPlan>(piece.mesh)),
+        anchor(piece.mesh, local_shapes[base], anchor_vertex),
+        mirrored(doubled_total_area(local_shapes[base], piece.mesh.faces()) < 0) {
     for (const Positions& X : local_shapes) {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
       frames.push_back(anchor.measure_input(X));
     }
-    const Positions& B = local_shapes[base];
-    double area = 0;
-    const Faces& F = piece.mesh.faces();
-    for (int f = 0; f < F.rows(); ++f) {
-      const Eigen::RowVector2d a = B.row(F(f, 1)) - B.row(F(f, 0)), b = B.row(F(f, 2)) - B.row(F(f, 0));
-      area += a.x() * b.y() - a.y() * b.x();
-    }
-    mirrored = area < 0;
-    main.u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
   }
+};
 
-  // A workspace for another thread, starting from this one's history and reusable factorisation.
-  std::unique_ptr<Workspace> clone_workspace() const {
-    auto ws = std::make_unique<Workspace>();
-    ws->own_flattener = main.flattener->clone();
-    ws->own_layout = main.layout->clone();
-    ws->flattener = ws->own_flattener.get();
-    ws->layout = ws->own_layout.get();
-    ws->history = main.history;
-    ws->u = Eigen::VectorXd::Zero(piece.mesh.num_vertices());
-    return ws;
-  }
+// What one thread needs to solve frames of one piece: solvers with their own CHOLMOD workspaces
+// and the warm-start history.
+struct Interpolator::Workspace {
+  explicit Workspace(const PiecePlan& p)
+      : flattener(p.flatten), layout(p.layout, /*own_system=*/false),
+        u(Eigen::VectorXd::Zero(p.piece.mesh.num_vertices())) {}
 
   void forget() {
-    main.history.solved.clear();
-    main.flattener->forget();
+    history.solved.clear();
+    flattener.forget();
   }
 
-  FlattenReport solve(Workspace& ws, const Eigen::VectorXd& w, const FlattenOptions& opt,
-                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) const {
-    ws.l2w = blend_squared_lengths(piece.mesh, l2, w);
-    ws.history.predict(w, ws.u);
-    const FlattenReport rep = ws.flattener->solve(ws.l2w, ws.u, opt);
-    ws.history.add(w, ws.u);
-    Positions& X = ws.X;
-    // The layout solves with the flattening's factorised Hessian: no second factor.
+  // The piece's frame at weights w into its rows of out (normalised coordinates).
+  FlattenReport solve(const PiecePlan& p, const Eigen::VectorXd& w, const FlattenOptions& opt,
+                      const Anchor& anchor_mode, Eigen::Ref<Positions> out, double* flatness) {
+    l2w = blend_squared_lengths(p.piece.mesh, p.l2, w);
+    history.predict(w, u);
+    const bool cold = u.isZero(0.0) && !flattener.has_reusable_factorization();
+    FlattenReport rep = flattener.solve(l2w, u, opt);
+    if (rep.broken_triangles > 0 && !cold) {
+      // Broken triangles at the solution: the energy is not strictly convex there and the point
+      // reached depends on the start. Solve again as a fresh Interpolator would, so the frame does
+      // not depend on the frames before it, and keep it out of the warm-start history.
+      flattener.forget();
+      u.setZero();
+      const FlattenReport warm = rep;
+      rep = flattener.solve(l2w, u, opt);
+      rep.factorizations += warm.factorizations;
+      rep.chord_steps += warm.chord_steps;
+      rep.line_search_steps += warm.line_search_steps;
+    }
+    if (rep.broken_triangles == 0) history.add(w, u);
+    // The layout solves with the flattening's factorised Hessian: no second factor. Unless that
+    // factorisation needed a diagonal shift (a singular Hessian, e.g. broken triangles around a
+    // vertex): refining a shifted singular system fails (frames 40 % off), so the uniform Laplacian.
     double shift = 0;
-    SparseCholesky* W = ws.flattener->num_interior() > 0 ? &ws.flattener->factored_hessian(ws.l2w, ws.u, &shift) : nullptr;
-    ws.layout->embed(ws.flattener->flat_squared_lengths(), W, shift, X, flatness);
-    if (mirrored) X.col(0) *= -1.0;
-    anchor.place(X, blend_frames(frames, w, anchor_mode));
-    for (size_t i = 0; i < piece.vertices.size(); ++i) out.row(piece.vertices[i]) = X.row(i);
+    SparseCholesky* W = flattener.num_interior() > 0 ? &flattener.factored_hessian(l2w, u, &shift) : nullptr;
+    if (shift > 0) {
+      layout.ensure_own_system();
+      layout.embed(flattener.flat_squared_lengths(), X, flatness);
+    } else {
+      layout.embed(flattener.flat_squared_lengths(), W, shift, X, flatness);
+    }
+    if (p.mirrored) X.col(0) *= -1.0;
+    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
+    for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
     return rep;
   }
+
+  Flattener flattener;
+  Layout layout;
+  detail::History history;
+  Eigen::VectorXd u, l2w;
+  Positions X;
 };
 
 Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor,
                            const InterpolatorOptions& options)
     : num_shapes_(static_cast<int>(shapes.size())), anchor_(anchor), options_(options) {
   if (shapes.empty()) throw InvalidInput("need at least one shape");
+  validate_options(options, num_shapes());
   num_vertices_ = static_cast<int>(shapes[0].rows());
-  if (options.base < 0 || options.base >= num_shapes()) {
-    std::ostringstream s;
-    s << "base shape index " << options.base << " out of range [0, " << num_shapes() << ")";
-    throw InvalidInput(s.str());
-  }
-  const int nv = static_cast<int>(shapes[0].rows());
-  const Mesh mesh(F, nv);
-  for (int i = 0; i < num_shapes(); ++i) check_shape(mesh, shapes[i], "shape " + std::to_string(i));
-  if (anchor.mode != Anchor::Mode::Centroid && anchor.vertex >= 0) {
-    if (anchor.vertex >= nv || mesh.is_isolated_vertex(anchor.vertex)) {
-      std::ostringstream s;
-      s << "anchor vertex " << anchor.vertex << " is " << (anchor.vertex >= nv ? "out of range" : "in no face");
-      throw InvalidInput(s.str());
-    }
-  }
-  if (anchor.mode == Anchor::Mode::Vertex && anchor.vertex < 0)
-    throw InvalidInput("vertex anchor needs a vertex index");
-  if (anchor.mode == Anchor::Mode::Path) {
-    const AnchorPath& p = anchor.path;
-    if (num_shapes() != 2) throw InvalidInput("an anchor path needs exactly two shapes");
-    if (p.t.empty() || p.angle.size() != p.t.size() || p.position.rows() != static_cast<int>(p.t.size()))
-      throw InvalidInput("anchor path: t, positions and angles must have the same non-zero length");
-    for (size_t k = 1; k < p.t.size(); ++k)
-      if (!(p.t[k] > p.t[k - 1])) throw InvalidInput("anchor path: t must be strictly increasing");
-    if (!p.position.allFinite()) throw InvalidInput("anchor path: positions must be finite");
-  }
-  for (int v = 0; v < nv; ++v)
+  const Mesh mesh(F, num_vertices_);
+  validate_anchor(anchor, mesh, num_shapes());
+  const std::vector<Positions> unit = normalise(shapes, mesh);
+  anchor_.path.position /= scale_;  // only differences of path positions matter (see blend_frames)
+  for (int v = 0; v < num_vertices_; ++v)
     if (mesh.is_isolated_vertex(v)) isolated_.push_back(v);
-  for (const Positions& X : shapes) {
+  for (const Positions& X : unit) {
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
+  workers_.resize(1);
   for (Piece& p : split_into_disks(mesh)) {
-    std::vector<Positions> local(shapes.size(), Positions(p.vertices.size(), 2));
-    for (size_t i = 0; i < shapes.size(); ++i)
-      for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = shapes[i].row(p.vertices[k]);
-    int av = -1;
-    if (anchor.vertex >= 0) {
-      const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
-      if (it != p.vertices.end()) av = static_cast<int>(it - p.vertices.begin());
+    std::vector<Positions> local(unit.size(), Positions(p.vertices.size(), 2));
+    for (size_t i = 0; i < unit.size(); ++i) {
+      for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = unit[i].row(p.vertices[k]);
+      check_orientation(local[i], p, static_cast<int>(i), static_cast<int>(plans_.size()));
     }
-    pieces_.push_back(std::make_unique<PieceSolver>(std::move(p), local, options.base, av));
+    const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
+    const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
+    plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av));
+    workers_[0].push_back(std::make_unique<Workspace>(*plans_.back()));
   }
 }
 
 Interpolator::~Interpolator() = default;
+
+std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& shapes, const Mesh& mesh) {
+  // The bounding box of every finite coordinate; the scale a power of two, so that scaling is exact
+  // and a shape scaled by 2^k gives exactly the scaled frames.
+  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo;
+  for (const Positions& X : shapes)
+    for (Eigen::Index v = 0; v < X.rows(); ++v)
+      if (X.row(v).allFinite()) lo = lo.cwiseMin(X.row(v)), hi = hi.cwiseMax(X.row(v));
+  const bool any = (lo.array() <= hi.array()).all();
+  offset_ = any ? Eigen::RowVector2d(0.5 * lo + 0.5 * hi) : Eigen::RowVector2d::Zero();
+  const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
+  scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
+  std::vector<Positions> unit;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    unit.push_back((shapes[i].rowwise() - offset_) / scale_);
+    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+  }
+  return unit;
+}
 
 void Interpolator::check_weights(const Eigen::VectorXd& w) const {
   if (w.size() != num_shapes()) {
@@ -263,7 +194,7 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
     s << "got " << w.size() << " weights for " << num_shapes() << " shapes";
     throw InvalidInput(s.str());
   }
-  if (!w.allFinite()) throw InvalidInput("weights must be finite");
+  if (!w.allFinite()) throw InvalidInput("weights must be finite, got " + weights_text(w));
   if (std::abs(w.sum() - 1.0) > 1e-9) {
     std::ostringstream s;
     s.precision(17);
@@ -272,49 +203,80 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
   }
 }
 
-void Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker,
-                               FrameStats& st) {
-  st = FrameStats{};
-  st.pieces = static_cast<int>(pieces_.size());
-  for (auto& p : pieces_) {
+FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {
+  FrameStats st;
+  st.pieces = static_cast<int>(plans_.size());
+  for (size_t p = 0; p < plans_.size(); ++p) {
     double flat = 0;
-    const FlattenReport r = p->solve(p->worker(worker), w, options_.flatten, anchor_, out, &flat);
-    st.iterations = std::max(st.iterations, r.iterations);
-    st.residual = std::max(st.residual, r.residual);
-    st.broken_triangles += r.broken_triangles;
-    st.max_broken_triangles += r.max_broken_triangles;
+    merge(st, workers_[worker][p]->solve(*plans_[p], w, options_.flatten, anchor_, out, &flat));
     st.flatness = std::max(st.flatness, flat);
-    st.factorizations += r.factorizations;
-    st.chord_steps += r.chord_steps;
   }
   for (size_t k = 0; k < isolated_.size(); ++k) {
     out.row(isolated_[k]).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
   }
+  for (Eigen::Index v = 0; v < out.rows(); ++v) out.row(v) = out.row(v) * scale_ + offset_;
+  self_check(st, w, out);
+  return st;
+}
+
+void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const {
+  if (!out.allFinite()) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
+  std::ostringstream s;
+  if (st.broken_triangles > 0)
+    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
+  if (!(st.flatness <= options_.max_flatness)) {
+    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
+      << " exceeds max_flatness " << options_.max_flatness;
+  }
+  if (s.tellp() == 0) return;
+  st.converged = false;
+  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
+  if (options_.strict) throw SolverError(st.warnings + " (strict)");
 }
 
 void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   const auto t0 = std::chrono::steady_clock::now();
   check_weights(w);
   if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
-  FrameStats st;
-  const parallel::ThreadLimit limit(threads_);
-  solve_frame(w, out, 0, st);
+  const parallel::ThreadLimit limit(options_.threads);
+  FrameStats st = solve_frame(w, out, 0);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
 }
 
+FrameStats Interpolator::last_stats() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return stats_;
+}
+
+void Interpolator::set_threads(int n) {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  InterpolatorOptions o = options_;
+  o.threads = n;
+  validate_options(o, num_shapes());
+  options_ = o;
+}
+
+int Interpolator::threads() const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return options_.threads;
+}
+
 void Interpolator::forget() {
-  for (auto& p : pieces_) p->forget();
+  const std::lock_guard<std::mutex> lock(mutex_);
+  for (auto& worker : workers_)
+    for (auto& ws : worker) ws->forget();
 }
 
 double Interpolator::floor_seconds(int repeats) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   double total = 0;
-  for (auto& p : pieces_) {
-    Flattener& fl = *p->main.flattener;
+  for (size_t p = 0; p < plans_.size(); ++p) {
+    Flattener& fl = workers_[0][p]->flattener;
     if (fl.num_interior() == 0) continue;
-    const Eigen::VectorXd& l2 = p->l2[options_.base];
-    fl.assemble_hessian(l2, Eigen::VectorXd::Zero(p->piece.mesh.num_vertices()));
+    fl.assemble_hessian(plans_[p]->l2[options_.base], Eigen::VectorXd::Zero(plans_[p]->piece.mesh.num_vertices()));
     SparseCholesky& chol = *fl.cholesky();
     Eigen::VectorXd b = Eigen::VectorXd::Ones(fl.num_interior()), x(fl.num_interior());
     std::vector<double> times;
@@ -342,11 +304,12 @@ Positions Interpolator::at(double t) {
     s << "at(t) needs exactly two shapes (have " << num_shapes() << "); use blend(weights)";
     throw InvalidInput(s.str());
   }
-  if (!std::isfinite(t)) throw InvalidInput("t must be finite");
+  if (!std::isfinite(t)) throw InvalidInput("t must be finite (got " + std::to_string(t) + ")");
   return blend(Eigen::Vector2d(1.0 - t, t));
 }
 
 void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> out) {
+  const std::lock_guard<std::mutex> lock(mutex_);
   const auto t0 = std::chrono::steady_clock::now();
   if (num_shapes() != 2) throw InvalidInput("frames(ts) needs exactly two shapes");
   const Eigen::Index n = num_vertices();
@@ -356,41 +319,52 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     if (!std::isfinite(ts[j])) throw InvalidInput("t must be finite (entry " + std::to_string(j) + ")");
   // Contiguous chunks of the sequence, one per worker (each warm-starts along its own chunk); worker 0
   // takes the last chunk so that this Interpolator's warm-start state ends at ts.back().
-  int workers = threads_ > 0 ? threads_ : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int threads = options_.threads;
+  int workers = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   workers = std::max(1, std::min<int>(workers, static_cast<int>(ts.size() / 4)));
-  for (auto& p : pieces_)
-    for (int k = 1; k < workers; ++k) p->extra.push_back(p->clone_workspace());
+  prepare_workers(workers);
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
   auto run = [&](int k) {
     // One frame per worker: with several workers, the loops inside a frame stay on their thread.
-    const parallel::ThreadLimit limit(workers > 1 ? 1 : threads_);
+    const parallel::ThreadLimit limit(workers > 1 ? 1 : threads);
     const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
     const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;
-    FrameStats st;
     try {
-      for (size_t j = begin; j < end; ++j) {
-        solve_frame(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n), k, st);
-        merge(stats[k], st);
-      }
+      for (size_t j = begin; j < end; ++j)
+        merge(stats[k], solve_frame(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n), k));
     } catch (...) {
       errors[k] = std::current_exception();
     }
   };
   {
     const SingleThreadedBlas blas(workers > 1);
-    std::vector<std::thread> threads;
-    for (int k = 1; k < workers; ++k) threads.emplace_back(run, k);
+    std::vector<std::thread> pool;
+    for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
     run(0);
-    for (auto& th : threads) th.join();
+    for (auto& th : pool) th.join();
   }
-  for (auto& p : pieces_) p->extra.clear();
   for (const auto& e : errors)
     if (e) std::rethrow_exception(e);
   FrameStats st = stats[0];
   for (int k = 1; k < workers; ++k) merge(st, stats[k]);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
+}
+
+void Interpolator::prepare_workers(int workers) {
+  // Workers 1, 2, ... start from worker 0's history (the frames before the sequence), with no
+  // reusable factorisation of their own.
+  while (static_cast<int>(workers_.size()) < workers) {
+    workers_.emplace_back();
+    for (const auto& plan : plans_) workers_.back().push_back(std::make_unique<Workspace>(*plan));
+  }
+  for (int k = 1; k < workers; ++k) {
+    for (size_t p = 0; p < plans_.size(); ++p) {
+      workers_[k][p]->forget();
+      workers_[k][p]->history = workers_[0][p]->history;
+    }
+  }
 }
 
 Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,

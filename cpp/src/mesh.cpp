@@ -1,7 +1,9 @@
 #include "bdinterp/mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <cstdint>
+#include <deque>
 #include <numeric>
 #include <sstream>
 
@@ -25,13 +27,10 @@ struct DisjointSets {
   void unite(int a, int b) { parent[find(a)] = find(b); }
 };
 
-}  // namespace
-
-Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F) {
-  const int nf = static_cast<int>(F.rows());
+void check_face_indices(const Faces& F, int num_vertices) {
   if (num_vertices <= 0) throw InvalidInput("mesh has no vertices");
-  if (nf == 0) throw InvalidInput("mesh has no faces");
-  for (int f = 0; f < nf; ++f) {
+  if (F.rows() == 0) throw InvalidInput("mesh has no faces");
+  for (int f = 0; f < F.rows(); ++f) {
     for (int c = 0; c < 3; ++c) {
       const int v = F(f, c);
       if (v < 0 || v >= num_vertices) {
@@ -46,7 +45,22 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
       throw InvalidInput(s.str());
     }
   }
+}
 
+}  // namespace
+
+Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F) {
+  check_face_indices(F, num_vertices);
+  build_edges();
+  const std::vector<int> next_on_boundary = chain_boundary();
+  find_pieces();
+  check_fans();
+  collect_loops(next_on_boundary);
+}
+
+void Mesh::build_edges() {
+  const Faces& F = F_;
+  const int nf = static_cast<int>(F.rows());
   // Half-edges sorted by undirected key; equal keys are the two sides of one edge.
   std::vector<std::pair<std::uint64_t, int>> he(3 * static_cast<size_t>(nf));
   for (int f = 0; f < nf; ++f) {
@@ -57,8 +71,8 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
   }
   std::sort(he.begin(), he.end());
   FE_.resize(nf, 3);
-  std::vector<std::array<int, 2>> E, EF;
-  E.reserve(he.size() / 2 + 1);
+  std::vector<std::array<int, 4>> edges;  // a, b, f0, f1
+  edges.reserve(he.size() / 2 + 1);
   for (size_t k = 0; k < he.size();) {
     size_t j = k;
     while (j < he.size() && he[j].first == he[k].first) ++j;
@@ -82,30 +96,26 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
         throw InvalidInput(s.str());
       }
     }
-    const int e = static_cast<int>(E.size());
-    E.push_back({std::min(a, b), std::max(a, b)});
-    EF.push_back({f0, f1});
-    for (size_t q = k; q < j; ++q) FE_(he[q].second / 3, he[q].second % 3) = e;
+    for (size_t q = k; q < j; ++q) FE_(he[q].second / 3, he[q].second % 3) = static_cast<int>(edges.size());
+    edges.push_back({std::min(a, b), std::max(a, b), f0, f1});
     k = j;
   }
-  E_.resize(static_cast<int>(E.size()), 2);
-  EF_.resize(static_cast<int>(E.size()), 2);
-  for (size_t e = 0; e < E.size(); ++e) {
-    E_(e, 0) = E[e][0];
-    E_(e, 1) = E[e][1];
-    EF_(e, 0) = EF[e][0];
-    EF_(e, 1) = EF[e][1];
+  E_.resize(static_cast<int>(edges.size()), 2);
+  EF_.resize(static_cast<int>(edges.size()), 2);
+  for (size_t e = 0; e < edges.size(); ++e) {
+    E_.row(e) << edges[e][0], edges[e][1];
+    EF_.row(e) << edges[e][2], edges[e][3];
   }
+}
 
+std::vector<int> Mesh::chain_boundary() {
   // Boundary half-edges: each boundary vertex must start exactly one (else its faces form several fans).
-  boundary_vertex_.assign(num_vertices, false);
-  std::vector<int> next_on_boundary(num_vertices, -1);
+  boundary_vertex_.assign(num_vertices_, false);
+  std::vector<int> next_on_boundary(num_vertices_, -1);
   for (int e = 0; e < num_edges(); ++e) {
     if (EF_(e, 1) >= 0) continue;
-    const int f = EF_(e, 0);
-    int c = 0;
-    while (FE_(f, c) != e) ++c;
-    const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);  // boundary walked with the face on the left
+    const int f = EF_(e, 0), c = corner_of_edge(f, e);
+    const int a = F_(f, (c + 1) % 3), b = F_(f, (c + 2) % 3);  // boundary walked with the face on the left
     if (next_on_boundary[a] >= 0) {
       std::ostringstream s;
       s << "vertex " << a << " is non-manifold: its faces form more than one fan";
@@ -114,8 +124,11 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
     next_on_boundary[a] = b;
     boundary_vertex_[a] = boundary_vertex_[b] = true;
   }
+  return next_on_boundary;
+}
 
-  // Pieces through shared edges.
+void Mesh::find_pieces() {
+  const int nf = num_faces();
   DisjointSets sets(nf);
   for (int e = 0; e < num_edges(); ++e)
     if (EF_(e, 1) >= 0) sets.unite(EF_(e, 0), EF_(e, 1));
@@ -126,67 +139,60 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
     if (root_piece[r] < 0) root_piece[r] = num_pieces_++;
     face_piece_[f] = root_piece[r];
   }
-  vertex_piece_.assign(num_vertices, -1);
+  vertex_piece_.assign(num_vertices_, -1);
   for (int f = 0; f < nf; ++f) {
     for (int c = 0; c < 3; ++c) {
-      int& p = vertex_piece_[F(f, c)];
+      int& p = vertex_piece_[F_(f, c)];
       if (p >= 0 && p != face_piece_[f]) {
         std::ostringstream s;
-        s << "vertex " << F(f, c) << " is shared by pieces that have no edge in common "
+        s << "vertex " << F_(f, c) << " is shared by pieces that have no edge in common "
           << "(non-manifold vertex)";
         throw InvalidInput(s.str());
       }
       p = face_piece_[f];
     }
   }
+}
 
-  // Interior vertices: the faces around them must form a single closed fan. Count faces per vertex
-  // and compare with the length of the fan walked from one of them.
-  std::vector<int> valence(num_vertices, 0);
-  for (int f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c) ++valence[F(f, c)];
-  std::vector<int> first_face(num_vertices, -1);
-  for (int f = 0; f < nf; ++f)
-    for (int c = 0; c < 3; ++c)
+void Mesh::check_fans() const {
+  // The faces around every vertex must form a single fan: count faces per vertex and compare with
+  // the length of the fan walked from one of them (both ways round at a boundary vertex).
+  const Faces& F = F_;
+  std::vector<int> valence(num_vertices_, 0), first_face(num_vertices_, -1);
+  for (int f = 0; f < F.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) {
+      ++valence[F(f, c)];
       if (first_face[F(f, c)] < 0) first_face[F(f, c)] = f;
-  for (int v = 0; v < num_vertices; ++v) {
-    if (first_face[v] < 0) continue;
-    // Walk counter-clockwise: from face f with corner v, cross the edge opposite corner (c+1).
-    int f = first_face[v], count = 0;
-    int start = f;
-    do {
-      int c = 0;
-      while (F(f, c) != v) ++c;
-      const int e = FE_(f, (c + 2) % 3);  // edge (v, F(f, c+1))
-      const int g = EF_(e, 0) == f ? EF_(e, 1) : EF_(e, 0);
+    }
+  }
+  // From face f with corner v, the next face round v across the edge opposite corner c + step.
+  auto next = [&](int f, int v, int step) {
+    int c = 0;
+    while (F(f, c) != v) ++c;
+    return opposite_face(FE_(f, (c + step) % 3), f);
+  };
+  for (int v = 0; v < num_vertices_; ++v) {
+    const int start = first_face[v];
+    if (start < 0) continue;
+    int f = start, count = 0;
+    do {  // counter-clockwise: across edge (v, F(f, c+1))
       ++count;
-      if (g < 0) break;
-      f = g;
-    } while (f != start && count <= valence[v]);
-    if (boundary_vertex_[v]) {
-      // Walk clockwise from the start as well to count the whole open fan.
-      f = start;
-      while (true) {
-        int c = 0;
-        while (F(f, c) != v) ++c;
-        const int e = FE_(f, (c + 1) % 3);  // edge (v, F(f, c+2))
-        const int g = EF_(e, 0) == f ? EF_(e, 1) : EF_(e, 0);
-        if (g < 0 || g == start) break;
-        ++count;
-        f = g;
-      }
+      f = next(f, v, 2);
+    } while (f >= 0 && f != start && count <= valence[v]);
+    if (boundary_vertex_[v]) {  // clockwise from the start as well, to count the whole open fan
+      for (f = next(start, v, 1); f >= 0 && f != start; f = next(f, v, 1)) ++count;
     }
     if (count != valence[v]) {
       std::ostringstream s;
-      s << "vertex " << v << " is non-manifold: its " << valence[v]
-        << " faces do not form a single fan";
+      s << "vertex " << v << " is non-manifold: its " << valence[v] << " faces do not form a single fan";
       throw InvalidInput(s.str());
     }
   }
+}
 
-  // Boundary loops.
-  std::vector<bool> seen(num_vertices, false);
-  for (int v = 0; v < num_vertices; ++v) {
+void Mesh::collect_loops(const std::vector<int>& next_on_boundary) {
+  std::vector<bool> seen(num_vertices_, false);
+  for (int v = 0; v < num_vertices_; ++v) {
     if (next_on_boundary[v] < 0 || seen[v]) continue;
     std::vector<int> loop;
     for (int w = v; !seen[w]; w = next_on_boundary[w]) {
@@ -196,6 +202,47 @@ Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F
     loop_piece_.push_back(vertex_piece_[v]);
     loops_.push_back(std::move(loop));
   }
+}
+
+std::vector<Mesh::DualStep> Mesh::dual_walk(const std::vector<int>& roots) const {
+  std::vector<bool> seen(num_faces(), false);
+  std::deque<int> queue;
+  for (int r : roots) {
+    if (seen[r]) continue;
+    seen[r] = true;
+    queue.push_back(r);
+  }
+  std::vector<DualStep> order;
+  order.reserve(num_faces());
+  while (!queue.empty()) {
+    const int f = queue.front();
+    queue.pop_front();
+    for (int c = 0; c < 3; ++c) {
+      const int e = FE_(f, c), g = opposite_face(e, f);
+      if (g < 0 || seen[g]) continue;
+      seen[g] = true;
+      order.push_back({g, f, corner_of_edge(g, e), c});
+      queue.push_back(g);
+    }
+  }
+  return order;
+}
+
+int Mesh::central_face() const {
+  std::vector<int> boundary_faces;
+  for (int e = 0; e < num_edges(); ++e)
+    if (EF_(e, 1) < 0) boundary_faces.push_back(EF_(e, 0));
+  if (boundary_faces.empty()) return 0;
+  const std::vector<DualStep> walk = dual_walk(boundary_faces);
+  if (!walk.empty()) return walk.back().face;
+  // Every face touches the boundary: the last distinct root.
+  std::vector<bool> seen(num_faces(), false);
+  int last = boundary_faces.front();
+  for (int f : boundary_faces) {
+    if (!seen[f]) last = f;
+    seen[f] = true;
+  }
+  return last;
 }
 
 std::vector<Piece> split_into_disks(const Mesh& mesh) {

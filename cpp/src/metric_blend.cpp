@@ -3,6 +3,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "bdinterp/geometry.h"
+
 namespace bdinterp {
 
 Eigen::VectorXd squared_edge_lengths(const Mesh& mesh, const Positions& X) {
@@ -29,7 +31,7 @@ void check_shape(const Mesh& mesh, const Positions& X, const std::string& what) 
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::RowVector2d a = X.row(F(f, 1)) - X.row(F(f, 0)), b = X.row(F(f, 2)) - X.row(F(f, 0));
     const Eigen::RowVector2d c = b - a;
-    const double area2 = std::abs(a.x() * b.y() - a.y() * b.x());
+    const double area2 = std::abs(doubled_area(X, F, f));
     const double longest = std::max({a.squaredNorm(), b.squaredNorm(), c.squaredNorm()});
     if (!(area2 > 2e-12 * longest)) {
       std::ostringstream s;

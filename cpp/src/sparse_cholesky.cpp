@@ -1,20 +1,108 @@
 #include "bdinterp/sparse_cholesky.h"
 
-#include "bdinterp/parallel.h"
-
 #include <cholmod.h>
 
 #include <algorithm>
 #include <cstring>
 #include <string>
 
+#include "bdinterp/parallel.h"
+
 namespace bdinterp {
 namespace {
 constexpr int kNestedDissectionRows = 20000;
+
+// Every CHOLMOD setting of the library, for the analysis and for every numeric factorisation alike
+// (a copy that lost final_ll used to refactorise as LDL').
+void configure(cholmod_common& common, int n) {
+  common.print = 0;  // failures are reported through exceptions, not printed
+  // Supernodal (BLAS) only when the factor is dense enough to profit: on this kind of matrix
+  // (planar meshes) the simplicial factorisation is faster up to ~10k rows (flops / nnz(L) ~ 50),
+  // supernodal beyond (~130 at 50k rows, ~280 at 500k).
+  common.supernodal_switch = 90;
+  // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
+  // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
+  common.final_ll = 1;
+  // Fill-reducing ordering: from ~20k rows nested dissection (METIS) gives markedly sparser factors
+  // on planar meshes (measured on a 1M-vertex grid: nnz(L) -22 %, factorisation flops -37 %),
+  // worth its slower, once-per-mesh analysis. Below, CHOLMOD keeps the better of AMD and its own
+  // nested dissection: AMD on grid-like meshes, NESDIS on Delaunay ones (5k-vertex disk: nnz(L)
+  // -12 %, factorisation -25 %).
+  if (n >= kNestedDissectionRows) {
+    common.nmethods = 1;
+    common.method[0].ordering = CHOLMOD_METIS;
+  } else {
+    common.nmethods = 2;
+    common.method[0].ordering = CHOLMOD_AMD;
+    common.method[1].ordering = CHOLMOD_NESDIS;
+  }
+}
+
+void check(const cholmod_common& common, const char* what) {
+  if (common.status < CHOLMOD_OK) {
+    throw SolverError(std::string("CHOLMOD ") + what + " failed (status " + std::to_string(common.status) +
+                      ")");
+  }
+}
+
+// A CHOLMOD handle configured by configure(); finished on destruction.
+struct Common {
+  cholmod_common c{};
+  explicit Common(int n) {
+    cholmod_start(&c);
+    configure(c, n);
+  }
+  ~Common() { cholmod_finish(&c); }
+  Common(const Common&) = delete;
+  Common& operator=(const Common&) = delete;
+};
+
+// A packed lower-triangular CHOLMOD matrix with the pattern (values zero).
+cholmod_sparse* allocate_pattern(const CholeskyAnalysis& a, cholmod_common& common) {
+  const size_t nnz = a.row_indices().size();
+  cholmod_sparse* A = cholmod_allocate_sparse(a.size(), a.size(), nnz, /*sorted=*/1, /*packed=*/1,
+                                              /*stype=*/-1, CHOLMOD_REAL, &common);
+  check(common, "allocate");
+  std::copy(a.column_pointers().begin(), a.column_pointers().end(), static_cast<int*>(A->p));
+  std::copy(a.row_indices().begin(), a.row_indices().end(), static_cast<int*>(A->i));
+  std::fill_n(static_cast<double*>(A->x), nnz, 0.0);
+  return A;
+}
+
 }  // namespace
 
+struct CholeskyAnalysis::Impl {
+  Common common;
+  cholmod_factor* L = nullptr;  // symbolic only; copied by every SparseCholesky
+  explicit Impl(int n) : common(n) {}
+  ~Impl() { cholmod_free_factor(&L, &common.c); }
+};
+
+CholeskyAnalysis::CholeskyAnalysis(int n, std::vector<int> col_ptr, std::vector<int> row_idx)
+    : col_ptr_(std::move(col_ptr)), rows_(std::move(row_idx)) {
+  if (n <= 0 || static_cast<int>(col_ptr_.size()) != n + 1 || col_ptr_.front() != 0 ||
+      col_ptr_.back() != static_cast<int>(rows_.size())) {
+    throw InvalidInput("SparseCholesky: inconsistent compressed-column pattern");
+  }
+  impl_ = std::make_unique<Impl>(n);
+  cholmod_common& c = impl_->common.c;
+  cholmod_sparse* A = allocate_pattern(*this, c);
+  impl_->L = cholmod_analyze(A, &c);
+  if (!impl_->L) {  // a CHOLMOD built without METIS: default orderings
+    c.nmethods = 0;
+    c.status = CHOLMOD_OK;
+    impl_->L = cholmod_analyze(A, &c);
+  }
+  cholmod_free_sparse(&A, &c);
+  check(c, "analyze");
+  factor_flops_ = c.fl;
+  solve_flops_ = 4.0 * c.lnz;
+}
+
+CholeskyAnalysis::~CholeskyAnalysis() = default;
+
 struct SparseCholesky::Impl {
-  cholmod_common common{};
+  Common common;
   cholmod_sparse* A = nullptr;
   cholmod_factor* L = nullptr;
   cholmod_dense* B = nullptr;
@@ -24,119 +112,54 @@ struct SparseCholesky::Impl {
   int ncols = 0;
   bool factored = false;
   mutable parallel::Partials product_parts;  // other threads' shares of multiply()
-  double factor_flops = 0, solve_flops = 0;
 
-  Impl() {
-    cholmod_start(&common);
-    common.print = 0;  // failures are reported through exceptions, not printed
+  explicit Impl(const CholeskyAnalysis& a, const cholmod_factor* symbolic) : common(a.size()) {
+    A = allocate_pattern(a, common.c);
+    L = cholmod_copy_factor(const_cast<cholmod_factor*>(symbolic), &common.c);
+    check(common.c, "copy");
   }
   ~Impl() {
-    cholmod_free_dense(&B, &common);
-    cholmod_free_dense(&X, &common);
-    cholmod_free_dense(&Y, &common);
-    cholmod_free_dense(&E, &common);
-    cholmod_free_factor(&L, &common);
-    cholmod_free_sparse(&A, &common);
-    cholmod_finish(&common);
-  }
-  void check(const char* what) const {
-    if (common.status < CHOLMOD_OK) {
-      throw SolverError(std::string("CHOLMOD ") + what + " failed (status " +
-                        std::to_string(common.status) + ")");
-    }
+    cholmod_free_dense(&B, &common.c);
+    cholmod_free_dense(&X, &common.c);
+    cholmod_free_dense(&Y, &common.c);
+    cholmod_free_dense(&E, &common.c);
+    cholmod_free_factor(&L, &common.c);
+    cholmod_free_sparse(&A, &common.c);
   }
   void ensure_rhs(int n, int k) {
     if (B && ncols == k) return;
-    cholmod_free_dense(&B, &common);
-    B = cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &common);
-    check("allocate");
+    cholmod_free_dense(&B, &common.c);
+    B = cholmod_allocate_dense(n, k, n, CHOLMOD_REAL, &common.c);
+    check(common.c, "allocate");
     ncols = k;
   }
 };
 
-SparseCholesky::SparseCholesky(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+SparseCholesky::SparseCholesky(std::shared_ptr<const CholeskyAnalysis> analysis)
+    : analysis_(std::move(analysis)),
+      impl_(std::make_unique<Impl>(*analysis_, analysis_->impl_->L)) {}
 
-SparseCholesky::SparseCholesky(int n, const std::vector<int>& col_ptr,
-                               const std::vector<int>& row_idx)
-    : impl_(std::make_unique<Impl>()) {
-  if (n <= 0 || static_cast<int>(col_ptr.size()) != n + 1 ||
-      col_ptr.back() != static_cast<int>(row_idx.size())) {
-    throw InvalidInput("SparseCholesky: inconsistent compressed-column pattern");
-  }
-  Impl& m = *impl_;
-  // Supernodal (BLAS) only when the factor is dense enough to profit: on this kind of matrix
-  // (planar meshes) the simplicial factorisation is faster up to ~10k rows (flops / nnz(L) ~ 50),
-  // supernodal beyond (~130 at 50k rows, ~280 at 500k).
-  m.common.supernodal_switch = 90;
-  // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
-  // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
-  m.common.final_ll = 1;
-  m.A = cholmod_allocate_sparse(n, n, row_idx.size(), /*sorted=*/1, /*packed=*/1, /*stype=*/-1,
-                                CHOLMOD_REAL, &m.common);
-  m.check("allocate");
-  std::copy(col_ptr.begin(), col_ptr.end(), static_cast<int*>(m.A->p));
-  std::copy(row_idx.begin(), row_idx.end(), static_cast<int*>(m.A->i));
-  std::fill_n(static_cast<double*>(m.A->x), row_idx.size(), 0.0);
-  // Fill-reducing ordering: from ~20k rows nested dissection (METIS) gives markedly sparser factors
-  // on planar meshes (measured on a 1M-vertex grid: nnz(L) -22 %, factorisation flops -37 %),
-  // worth its slower, once-per-mesh analysis. Below, CHOLMOD keeps the better of AMD and its own
-  // nested dissection: AMD on grid-like meshes, NESDIS on Delaunay ones (5k-vertex disk: nnz(L)
-  // -12 %, factorisation -25 %).
-  if (n >= kNestedDissectionRows) {
-    m.common.nmethods = 1;
-    m.common.method[0].ordering = CHOLMOD_METIS;
-  } else {
-    m.common.nmethods = 2;
-    m.common.method[0].ordering = CHOLMOD_AMD;
-    m.common.method[1].ordering = CHOLMOD_NESDIS;
-  }
-  m.L = cholmod_analyze(m.A, &m.common);
-  if (!m.L) {  // a CHOLMOD built without METIS: default orderings
-    m.common.nmethods = 0;
-    m.common.status = CHOLMOD_OK;
-    m.L = cholmod_analyze(m.A, &m.common);
-  }
-  m.check("analyze");
-  m.factor_flops = m.common.fl;
-  m.solve_flops = 4.0 * m.common.lnz;
-}
+SparseCholesky::SparseCholesky(int n, const std::vector<int>& col_ptr, const std::vector<int>& row_idx)
+    : SparseCholesky(std::make_shared<const CholeskyAnalysis>(n, col_ptr, row_idx)) {}
 
 SparseCholesky::~SparseCholesky() = default;
 SparseCholesky::SparseCholesky(SparseCholesky&&) noexcept = default;
 SparseCholesky& SparseCholesky::operator=(SparseCholesky&&) noexcept = default;
 
-SparseCholesky SparseCholesky::clone() const {
-  auto copy = std::make_unique<Impl>();
-  copy->common.supernodal = impl_->common.supernodal;
-  copy->A = cholmod_copy_sparse(impl_->A, &copy->common);
-  copy->check("copy");
-  copy->L = cholmod_copy_factor(impl_->L, &copy->common);
-  copy->check("copy");
-  copy->factored = impl_->factored;
-  copy->factor_flops = impl_->factor_flops;
-  copy->solve_flops = impl_->solve_flops;
-  return SparseCholesky(std::move(copy));
-}
-
-double SparseCholesky::factor_flops() const { return impl_->factor_flops; }
-double SparseCholesky::solve_flops() const { return impl_->solve_flops; }
-
-int SparseCholesky::size() const { return static_cast<int>(impl_->A->nrow); }
-
 double* SparseCholesky::values() { return static_cast<double*>(impl_->A->x); }
 const double* SparseCholesky::values() const { return static_cast<const double*>(impl_->A->x); }
-const int* SparseCholesky::column_pointers() const { return static_cast<const int*>(impl_->A->p); }
-const int* SparseCholesky::row_indices() const { return static_cast<const int*>(impl_->A->i); }
+bool SparseCholesky::factored() const { return impl_->factored; }
+bool SparseCholesky::factor_is_ll() const { return impl_->factored && impl_->L->is_ll; }
 
 void SparseCholesky::factorize() {
   Impl& m = *impl_;
   m.factored = false;
-  cholmod_factorize(m.A, m.L, &m.common);
-  if (m.common.status == CHOLMOD_NOT_POSDEF) {
+  cholmod_factorize(m.A, m.L, &m.common.c);
+  if (m.common.c.status == CHOLMOD_NOT_POSDEF) {
     throw SolverError("matrix is not positive definite (CHOLMOD stopped at column " +
                       std::to_string(m.L->minor) + ")");
   }
-  m.check("factorize");
+  check(m.common.c, "factorize");
   m.factored = true;
 }
 
@@ -174,8 +197,8 @@ void SparseCholesky::solve(const double* b, double* x, int ncols) {
   const int n = size();
   m.ensure_rhs(n, ncols);
   std::memcpy(m.B->x, b, sizeof(double) * n * ncols);
-  cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common);
-  m.check("solve");
+  cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common.c);
+  check(m.common.c, "solve");
   std::memcpy(x, m.X->x, sizeof(double) * n * ncols);
 }
 

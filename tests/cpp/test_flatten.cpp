@@ -5,6 +5,7 @@
 
 #include "bdinterp/flatten.h"
 #include "bdinterp/metric_blend.h"
+#include "../../cpp/src/detail/flatten_energy.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -71,6 +72,48 @@ TEST_F(CurvedMetric, AngleSumsMatchTheLawOfCosinesFarFromFlat) {
   }
 }
 
+TEST_F(CurvedMetric, BothAngleSumPathsMatchTheLawOfCosines) {
+  // The energy path (line search) and the gradient-only path (every other step) share one
+  // accumulator: both must match the long-double reference, far from flat too.
+  const FlattenPlan plan(mesh);
+  detail::EnergyEvaluator evaluator(plan);
+  detail::Evaluation with_energy, without;
+  for (const double scale : {0.0, 0.3, 3.0}) {
+    const Eigen::VectorXd u = random_u(scale, 12), ref = reference_gradient(mesh, l2, u);
+    evaluator.evaluate(l2, u, true, nullptr, with_energy);
+    evaluator.evaluate(l2, u, false, nullptr, without);
+    EXPECT_TRUE(with_energy.has_energy);
+    EXPECT_FALSE(without.has_energy);
+    double worst_with = 0, worst_without = 0;
+    for (int i = 0; i < plan.num_interior(); ++i) {
+      const int v = plan.pattern.vertex[i];
+      worst_with = std::max(worst_with, std::abs(with_energy.defect[i] - ref[v]));
+      worst_without = std::max(worst_without, std::abs(without.defect[i] - ref[v]));
+    }
+    EXPECT_LT(worst_with, 1e-9) << "scale " << scale;
+    EXPECT_LT(worst_without, 1e-9) << "scale " << scale;
+    EXPECT_EQ(with_energy.residual, without.residual);
+  }
+}
+
+TEST_F(CurvedMetric, LazyHessianEqualsTheOneAssembledWithTheAngles) {
+  // Newton assembles the Hessian with the angle sums, or later from the scaled lengths alone.
+  const FlattenPlan plan(mesh);
+  detail::EnergyEvaluator evaluator(plan);
+  detail::Evaluation at;
+  const Eigen::VectorXd u = random_u(0.05, 6);
+  std::vector<double> fused(plan.nnz() + 1), lazy(plan.nnz() + 1);
+  evaluator.evaluate(l2, u, false, fused.data(), at);
+  evaluator.assemble_hessian(at, lazy.data());
+  double worst = 0, largest = 0;
+  for (int p = 0; p < plan.nnz(); ++p) {
+    worst = std::max(worst, std::abs(fused[p] - lazy[p]));
+    largest = std::max(largest, std::abs(fused[p]));
+  }
+  EXPECT_GT(largest, 0.1);
+  EXPECT_LT(worst, 1e-14 * largest);
+}
+
 TEST(Flatten, AngleSumsAtAVertexOfValence400) {
   // A fan of 400 thin faces: the product of the corners' factors (1 / sin 0.9 degree each) would
   // overflow without rescaling. A non-uniform ring radius makes the sum differ from 2 pi.
@@ -132,6 +175,7 @@ TEST_F(CurvedMetric, GradientMatchesFiniteDifferencesOfEnergy) {
 }
 
 TEST_F(CurvedMetric, HessianMatchesFiniteDifferencesOfGradient) {
+  // hessian() is the assembly Newton factorises (evaluated with the angle sums).
   Flattener fl(mesh);
   const Eigen::VectorXd u = random_u(0.05, 4);
   const Eigen::MatrixXd H = Eigen::MatrixXd(fl.hessian(l2, u));
@@ -203,6 +247,46 @@ TEST_F(CurvedMetric, BrokenTrianglesDuringNewtonStayFiniteAndConverge) {
   EXPECT_LE(r.residual, 1e-10);
   // Strict convexity where no triangle is broken: the same solution.
   EXPECT_LT((u - reference).cwiseAbs().maxCoeff(), 1e-8);
+}
+
+TEST_F(CurvedMetric, BadOptionsAndLengthsAreRejected) {
+  Flattener fl(mesh);
+  Eigen::VectorXd u;
+  for (const double tol : {-1.0, std::nan(""), HUGE_VAL}) {
+    FlattenOptions opt;
+    opt.tolerance = tol;
+    try {
+      fl.solve(l2, u, opt);
+      ADD_FAILURE() << "tolerance " << tol << " accepted";
+    } catch (const InvalidInput& e) {
+      EXPECT_NE(std::string(e.what()).find("tolerance"), std::string::npos) << e.what();
+    }
+  }
+  FlattenOptions opt;
+  opt.max_iterations = -1;
+  EXPECT_THROW(fl.solve(l2, u, opt), InvalidInput);
+  Eigen::VectorXd bad = l2;
+  bad[3] = std::nan("");
+  try {
+    fl.solve(bad, u);
+    ADD_FAILURE();
+  } catch (const InvalidInput& e) {
+    EXPECT_NE(std::string(e.what()).find("edge 3"), std::string::npos) << e.what();
+  }
+}
+
+TEST(Flatten, APieceWithoutInteriorVerticesNeedsNoStep) {
+  // A strip one face wide: every vertex on the boundary (used to dereference a null factor).
+  const auto m = testing::jittered_grid(6, 1);
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  Flattener fl(mesh);
+  EXPECT_EQ(fl.num_interior(), 0);
+  Eigen::VectorXd u;
+  FlattenOptions opt;
+  opt.tolerance = 0.0;
+  const FlattenReport r = fl.solve(squared_edge_lengths(mesh, m.V), u, opt);
+  EXPECT_EQ(r.iterations, 0);
+  EXPECT_EQ(r.residual, 0.0);
 }
 
 TEST_F(CurvedMetric, NonConvergenceIsASolverError) {

@@ -1,21 +1,13 @@
 #include <gtest/gtest.h>
 
 #include "bdinterp/mesh.h"
+#include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
 
-// Expects InvalidInput whose message contains `needle`.
-template <typename Fn>
-void expect_invalid(Fn fn, const std::string& needle) {
-  try {
-    fn();
-    FAIL() << "no exception, expected one mentioning '" << needle << "'";
-  } catch (const InvalidInput& e) {
-    EXPECT_NE(std::string(e.what()).find(needle), std::string::npos) << e.what();
-  }
-}
+using testing::expect_invalid;
 
 Faces faces(std::initializer_list<std::array<int, 3>> rows) {
   Faces F(static_cast<int>(rows.size()), 3);

@@ -6,13 +6,15 @@
 // with lambda_m = log of the scaled squared length of edge m, alpha_m the angle opposite it and L
 // Lobachevsky's function, has gradient g_i = 2pi - (angle sum at i) at interior vertices and the
 // cotan Laplacian (weights (cot a + cot b) / 2) as Hessian. Newton with a line search on E.
+//
+// A FlattenPlan holds what depends on the mesh only (read-only, shared by threads); a Flattener is
+// one thread's workspace (scratch, numeric factorisation, the refactorisation policy's state).
 #pragma once
 
 #include <Eigen/Sparse>
 #include <memory>
 
 #include "bdinterp/mesh.h"
-#include "bdinterp/parallel.h"
 #include "bdinterp/sparse_cholesky.h"
 
 namespace bdinterp {
@@ -26,6 +28,9 @@ struct FlattenOptions {
   bool reuse_factorization = true;
 };
 
+// Throws InvalidInput naming the field unless tolerance >= 0 (finite) and max_iterations >= 0.
+void validate(const FlattenOptions& options);
+
 struct FlattenReport {
   int iterations = 0;            // Newton steps taken
   double residual = 0;           // final max |2pi - angle sum| (radians)
@@ -36,36 +41,66 @@ struct FlattenReport {
   int chord_steps = 0;           // steps that reused an earlier factorisation (also in iterations)
 };
 
+// Reports of several solves (pieces of a frame, frames of a sequence) combined by one rule: the
+// worst of each state measure (iterations, residual, broken_triangles, max_broken_triangles: the
+// most in any one solve), the sum of the work (line_search_steps, factorizations, chord_steps).
+void merge(FlattenReport& into, const FlattenReport& other);
+
+// The mesh-only part of a flattening: interior numbering, where each face's terms go, the symbolic
+// analysis of the Hessian. Read-only once built; `disk` must outlive it.
+struct FlattenPlan {
+  // disk: one connected piece with one boundary loop (see split_into_disks).
+  explicit FlattenPlan(const Mesh& disk);
+
+  // Per face, where its terms go, with the boundary sent to spare slots (row num_interior() of the
+  // angle sums, entry nnz() of the Hessian values) so that the face loops need no branches.
+  struct FaceSlots {
+    int edge[3];  // edge opposite corner c
+    int row[3];   // interior index of corner c
+    int diag[3];  // Hessian position of corner c's diagonal
+    int off[3];   // Hessian position of the entry of edge c
+  };
+
+  const Mesh& mesh;
+  InteriorPattern pattern;
+  std::vector<FaceSlots> slots;
+  std::shared_ptr<const CholeskyAnalysis> analysis;  // null without interior vertices
+  int num_interior() const { return pattern.size(); }
+  int nnz() const { return analysis ? static_cast<int>(analysis->row_indices().size()) : 0; }
+};
+
 class Flattener {
  public:
-  // disk: one connected piece with one boundary loop (see split_into_disks). Builds the sparsity
-  // pattern of the interior cotan Laplacian and runs CHOLMOD's symbolic analysis once.
+  // A workspace with a plan of its own.
   explicit Flattener(const Mesh& disk);
-  Flattener(const Flattener&) = delete;
+  // A workspace over a shared plan (e.g. one per thread).
+  explicit Flattener(std::shared_ptr<const FlattenPlan> plan);
   Flattener(Flattener&&) noexcept;
+  Flattener& operator=(Flattener&&) noexcept;
   ~Flattener();
-  // A copy with its own CHOLMOD workspace, for use on another thread.
-  std::unique_ptr<Flattener> clone() const;
 
   // l2: #E blended squared edge lengths. u: #V conformal factors; on input the initial guess
-  // (boundary entries are ignored), on output the solution (0 on the boundary). Throws SolverError
-  // if `options.tolerance` is not reached within `options.max_iterations` steps.
-  FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
-                      const FlattenOptions& options = {});
+  // (boundary and non-finite entries are ignored), on output the solution (0 on the boundary).
+  // Throws InvalidInput for bad options or sizes, SolverError if `options.tolerance` is not reached
+  // within `options.max_iterations` steps.
+  FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
 
   // The pieces of the solve, exposed for tests and diagnostics (all sized #V; boundary entries of
-  // gradients are 0).
-  double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
-  Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
-  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  // gradients are 0). They do not disturb the state solve() leaves.
+  double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+  Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+  // The Hessian as Newton assembles it (#V by #V, interior rows and columns only).
+  Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   // max |2pi - angle sum| over interior vertices.
-  double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   // #E flat squared lengths exp(u_i + u_j) l2_ij at the solution of the last solve() (valid until
-  // the next call of any evaluating method), so the layout need not recompute them.
-  const Eigen::VectorXd& flat_squared_lengths() const { return scaled_l2_; }
-  int num_interior() const { return num_interior_; }
+  // the next solve), so the layout need not recompute them.
+  const Eigen::VectorXd& flat_squared_lengths() const;
+  int num_interior() const { return plan_->num_interior(); }
+  const FlattenPlan& plan() const { return *plan_; }
   // The interior numbering and Hessian pattern (see interior_pattern).
-  const InteriorPattern& pattern() const { return pattern_; }
+  const InteriorPattern& pattern() const { return plan_->pattern; }
+  bool is_interior(int v) const { return plan_->pattern.index[v] >= 0; }
   // For the layout: a factorised symmetric positive definite matrix over pattern() whose values()
   // are the matrix that was factorised (the Hessian at the last factorisation, plus `*shift` on the
   // diagonal). Factorises the Hessian at (l2, u) if no factorisation is at hand.
@@ -73,68 +108,23 @@ class Flattener {
   // Benchmarks: loads the Hessian at (l2, u) into the solver (no factorisation) and gives access to
   // it; the next solve() will not reuse the factorisation that was there.
   void assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
-  SparseCholesky* cholesky() { factor_reusable_ = false; return chol_.get(); }
-  // Forgets the reusable factorisation, so the next solve starts with a fresh Newton step.
-  void forget() { factor_reusable_ = false; }
-  bool is_interior(int v) const { return pattern_.index[v] >= 0; }
+  SparseCholesky* cholesky();
+  // A factorisation from an earlier solve is at hand for chord steps (see reuse_factorization).
+  bool has_reusable_factorization() const;
+  // Forgets the reusable factorisation and the cost model's observations, so the next solve
+  // starts as a fresh Flattener's would.
+  void forget();
+
+  struct State;  // the workspace (flatten.cpp)
 
  private:
-  struct Eval {
-    double energy = 0;
-    double residual = 0;
-    int broken = 0;
-  };
-  // One pass over the faces: angle sums into grad_ (interior numbering), optionally the energy and
-  // the Hessian values into hvals_.
-  Eval evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
-                bool want_hessian) const;
-  // The Hessian values at the scaled lengths left by the last evaluate (no angles).
-  void assemble_from_scaled() const;
-  void load_hessian();  // hvals_ into the solver's matrix
-  void factorize_with_shift();
-  void hessian_times(const double* x, double* y) const;  // y = H x with H = hvals_
-  int preconditioned_cg(double eta, int max_iterations);
-
-  explicit Flattener(const Mesh* mesh) : mesh_(mesh) {}
-
-  const Mesh* mesh_;
-  int num_interior_ = 0;
-  int nnz_ = 0;
-  InteriorPattern pattern_;
-  // Per face, where its terms go, with the boundary sent to spare slots (row num_interior_ of grad_,
-  // entry nnz_ of hvals_) so that the face loops need no branches.
-  struct FaceSlots {
-    int edge[3];  // edge opposite corner c
-    int row[3];   // interior index of corner c
-    int diag[3];  // Hessian position of corner c's diagonal
-    int off[3];   // Hessian position of the entry of edge c
-  };
-  std::vector<FaceSlots> slots_;
-  // Other threads' shares of an evaluation: angle sums (whole turns, broken faces), running
-  // products of the corners' half-angle factors, Hessian values.
-  mutable parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_;
-  mutable Eigen::VectorXd corner_re_, corner_im_;  // #interior + 1: thread 0's running products
-  mutable std::vector<double> hvals_;  // nnz_ + 1: the Hessian at the last evaluated u, in the
-                                       // solver's order (the shifted copy lives in the solver)
-  std::unique_ptr<SparseCholesky> chol_;
-  mutable Eigen::VectorXd grad_;      // #interior + 1, scratch
-  mutable Eigen::VectorXd scaled_l2_; // #E, scratch
-  mutable Eigen::VectorXd scaled_len_;  // #E, scratch
-  mutable Eigen::VectorXd exp_u_;     // #V, scratch
-  double shift_ = 0;                  // diagonal shift of the factorisation in chol_
-  bool factor_reusable_ = false;      // chol_ holds a factorisation usable for chord steps
-  double factor_cost_ = 0;            // estimated flops of a factorisation and of a chord step
-  double chord_cost_ = 0;
-  double stale_cost_ = 0;             // flops spent on CG iterations a fresh factor would not need
-  double evaluation_cost() const;
-  double newton_c_ = 1.0;             // last observed r_new / r_old^2 of a full Newton step
-  Eigen::VectorXd step_, trial_;      // scratch
-  Eigen::VectorXd cg_r_, cg_z_, cg_p_;  // H p shares cg_z_ (never both alive)
+  std::shared_ptr<const FlattenPlan> plan_;
+  std::unique_ptr<State> state_;
 };
 
 // One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.
-Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2,
-                        const FlattenOptions& options = {}, FlattenReport* report = nullptr);
+Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2, const FlattenOptions& options = {},
+                        FlattenReport* report = nullptr);
 
 // exp(u_i + u_j) * l2_ij for every edge.
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u);

@@ -3,6 +3,8 @@
 #pragma once
 
 #include <memory>
+#include <mutex>
+#include <string>
 #include <vector>
 
 #include "bdinterp/anchor.h"
@@ -13,27 +15,39 @@ namespace bdinterp {
 struct InterpolatorOptions {
   FlattenOptions flatten;
   int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
+  // Threads: frames() splits a sequence over this many workers (never more than one per 4 frames),
+  // and a single frame splits its face loops over this many threads. 0 = one per core,
+  // 1 = sequential; at most kMaxThreads.
+  int threads = 0;
+  // The self-check of every frame: the layout's flatness (see Layout::embed) must be at most
+  // max_flatness (a converged frame measures 1e-13 .. 1e-9) and the flattened metric must have no
+  // broken triangles. A frame failing it is flagged in FrameStats (converged = false, warnings);
+  // with `strict` it raises SolverError instead of being returned.
+  double max_flatness = 1e-6;
+  bool strict = false;
+  static constexpr int kMaxThreads = 1024;
 };
 
-// Statistics of the last computed frame (over all pieces).
-struct FrameStats {
-  int iterations = 0;            // Newton steps (the most over pieces)
-  double residual = 0;           // max |2pi - angle sum| at interior vertices
-  int broken_triangles = 0;      // faces violating the triangle inequality at the solution
-  int max_broken_triangles = 0;  // the most seen during Newton
-  double flatness = 0;           // layout residual, see Layout::embed
+// Statistics of the last computed frame or sequence: the flattening's report merged over pieces and
+// frames by the one rule of merge(FlattenReport&, ...) (the worst state, the sum of the work), and:
+struct FrameStats : FlattenReport {
+  double flatness = 0;    // the largest layout residual, see Layout::embed
   int pieces = 0;
-  int factorizations = 0;        // numeric Cholesky factorisations (summed over pieces)
-  int chord_steps = 0;           // Newton steps that reused an earlier factorisation (summed)
-  double seconds = 0;            // wall-clock time of the frame in C++
+  double seconds = 0;     // wall-clock time of the call in C++
+  bool converged = true;  // every frame passed the self-check (see InterpolatorOptions)
+  std::string warnings;   // why not, naming the first failing frame; empty when converged
 };
 
-// Not thread-safe: one Interpolator per thread (frames() parallelises internally).
+// Thread safety: every public member may be called from any thread; calls on one Interpolator are
+// serialised by a mutex of its own (one call at a time; frames() parallelises internally). From
+// Python the bindings release the GIL before taking it, so the two locks cannot deadlock.
 class Interpolator {
  public:
   // shapes: k >= 1 arrays of #V by 2 positions with the connectivity F (#F by 3). Validates everything
   // (throws InvalidInput): sizes, indices, manifoldness, disk pieces, finite coordinates, no collapsed
-  // faces in any shape, anchor vertex in range. Vertices in no face are blended linearly.
+  // faces in any shape, signed face areas that do not cancel, the anchor and the options. Vertices
+  // in no face are blended linearly. Coordinates of any magnitude (1e-150 .. 1e150) are solved
+  // alike: the shapes are moved and scaled (by a power of two) to unit size inside.
   Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor = {},
                const InterpolatorOptions& options = {});
   ~Interpolator();
@@ -44,19 +58,18 @@ class Interpolator {
   int num_vertices() const { return num_vertices_; }
 
   // Two shapes: the in-between at t (weights (1 - t, t)); t outside [0, 1] extrapolates while the
-  // metric stays valid.
+  // metric stays valid. InvalidInput for a non-finite t.
   Positions at(double t);
   // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
   Positions blend(const Eigen::VectorXd& w);
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
-  // The sequence is cut into contiguous chunks solved in parallel (see set_threads); each frame is
-  // warm-started from the frames before it in its chunk. Afterwards last_stats() aggregates over
-  // all frames: the largest iterations/residual/flatness, summed factorisations and chord steps,
-  // and the wall-clock seconds of the whole call.
+  // The sequence is cut into contiguous chunks solved in parallel (see InterpolatorOptions::threads);
+  // each frame is warm-started from the frames before it in its chunk. Afterwards last_stats()
+  // merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
 
-  const FrameStats& last_stats() const { return stats_; }
+  FrameStats last_stats() const;
 
   // Drops every cached solution (warm-start history, reusable factorisations): the next frame is
   // computed cold, from nothing but the symbolic analysis. For benchmarks and reproducibility.
@@ -65,25 +78,34 @@ class Interpolator {
   // solve of the interior cotan Laplacian of the base shape, summed over pieces (symbolic analysis
   // reused). Leaves the warm-start history untouched but invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
-  // Threads to use: frames() splits a sequence over this many workers (never more than one per 4
-  // frames), and a single frame splits its face loops over this many threads. 0 (default) = one per
-  // core, 1 = sequential.
-  void set_threads(int n) { threads_ = n; }
-  int threads() const { return threads_; }
+  // options().threads, for the bindings' `threads` property (InvalidInput outside [0, kMaxThreads]).
+  void set_threads(int n);
+  int threads() const;
+  const InterpolatorOptions& options() const { return options_; }
 
  private:
-  struct PieceSolver;
+  struct PiecePlan;
+  struct Workspace;
+  // The shapes moved and scaled to unit size (sets offset_, scale_), validated.
+  std::vector<Positions> normalise(const std::vector<Positions>& shapes, const Mesh& mesh);
   void check_weights(const Eigen::VectorXd& w) const;
-  void solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker, FrameStats& st);
+  void prepare_workers(int workers);
+  // One frame into out (in the caller's coordinates); `worker` selects the workspaces.
+  FrameStats solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker);
+  void self_check(FrameStats& st, const Eigen::VectorXd& w, Eigen::Ref<Positions> out) const;
 
   int num_shapes_ = 0, num_vertices_ = 0;
-  Anchor anchor_;
+  Anchor anchor_;  // in the normalised frame
   InterpolatorOptions options_;
-  std::vector<std::unique_ptr<PieceSolver>> pieces_;
+  Eigen::RowVector2d offset_;  // caller's = scale_ * normalised + offset_
+  double scale_ = 1;
+  std::vector<std::unique_ptr<const PiecePlan>> plans_;
+  // workers_[k][p]: worker k's workspace for piece p (worker 0 serves at/blend and keeps history).
+  std::vector<std::vector<std::unique_ptr<Workspace>>> workers_;
   std::vector<int> isolated_;
   std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
-  int threads_ = 0;  // 0: hardware concurrency
+  mutable std::mutex mutex_;
 };
 
 // One-off: interpolate between two shapes at t (builds and discards an Interpolator).

@@ -11,26 +11,56 @@
 // every such W gives the same, exact layout. The interpolator passes the flattening's own
 // factorised cotan Laplacian (no second factor); a stand-alone Layout factorises the uniform graph
 // Laplacian once.
+//
+// A LayoutPlan holds what depends on the mesh only (read-only, shared by threads); a Layout is one
+// thread's workspace.
 #pragma once
 
-#include <array>
 #include <memory>
 #include <vector>
 
 #include "bdinterp/mesh.h"
-#include "bdinterp/parallel.h"
 #include "bdinterp/sparse_cholesky.h"
 
 namespace bdinterp {
+
+// The mesh-only part of a layout; `disk` must outlive it.
+struct LayoutPlan {
+  // disk: one connected piece with one boundary loop (see split_into_disks).
+  explicit LayoutPlan(const Mesh& disk);
+
+  // A half-edge of face `face`, opposite corner `corner`, taken forwards (sign 1) or backwards (-1).
+  struct HalfEdge {
+    int face, corner;
+    double sign;
+  };
+  // An interior vertex next to the boundary: its interior number, a boundary neighbour and the
+  // half-edge from that boundary vertex to it.
+  struct Tie {
+    int row, boundary;
+    HalfEdge edge;
+  };
+
+  const Mesh& mesh;
+  InteriorPattern pattern;
+  std::vector<int> col_ptr, rows;   // the interior pattern (see interior_pattern)
+  int root = 0;                     // the central face, in the layout frame's orientation
+  std::vector<Mesh::DualStep> tree;  // breadth-first from the root (not listed)
+  std::vector<int> loop;            // the boundary vertices in order (interior on the left)
+  std::vector<HalfEdge> loop_edges;  // loop[k] -> loop[k + 1]
+  std::vector<Tie> ties;            // one per interior vertex next to the boundary
+};
 
 class Layout {
  public:
   // disk: one connected piece with one boundary loop (see split_into_disks). With own_system, the
   // uniform graph Laplacian of the interior vertices is factorised here for embed(l2, ...).
   explicit Layout(const Mesh& disk, bool own_system = true);
+  // A workspace over a shared plan.
+  explicit Layout(std::shared_ptr<const LayoutPlan> plan, bool own_system = true);
   Layout(Layout&&) noexcept;
+  Layout& operator=(Layout&&) noexcept;
   ~Layout();
-  std::unique_ptr<Layout> clone() const;  // own CHOLMOD workspace, for another thread
 
   // l2: #E flat squared edge lengths. Returns #V by 2 positions whose faces are counter-clockwise in
   // the order given by the face list, in an arbitrary rigid frame. If `flatness` is given it receives
@@ -45,45 +75,26 @@ class Layout {
   void embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
              double* flatness = nullptr);
 
-  // One step of the dual spanning tree: `face` is reached from `parent` across the edge opposite
-  // corner `face_corner` of face and `parent_corner` of parent.
-  struct TreeStep {
-    int face, parent, face_corner, parent_corner;
-  };
-  // A half-edge of face `face`, opposite corner `corner`, taken forwards (sign 1) or backwards (-1).
-  struct HalfEdge {
-    int face, corner;
-    double sign;
-  };
+  // Factorises the uniform graph Laplacian for embed(l2, X) if not done yet (a Layout built without
+  // own_system, whose caller's system turned out singular).
+  void ensure_own_system();
+
+  const LayoutPlan& plan() const { return *plan_; }
 
  private:
-  explicit Layout(const Mesh* mesh) : mesh_(mesh) {}
+  struct Scratch;
   // The rotated half-edge vector h in the layout frame.
-  void vector_of(const HalfEdge& h, double* v) const;
-  // The interior positions into X, the boundary's being there.
+  void vector_of(const LayoutPlan::HalfEdge& h, double* v) const;
+  void place_faces(const Eigen::VectorXd& l2);      // each face in its own frame, then rotated
+  void place_boundary(Positions& X) const;          // the loop, its closing gap spread by arc length
+  // The right-hand side of the interior system into the scratch, the boundary's positions being in X.
+  void assemble_rhs(const SparseCholesky& W, double shift, const Positions& X);
+  // The interior positions into X.
   void solve_interior(SparseCholesky& W, double shift, Positions& X);
 
-  const Mesh* mesh_;
-  InteriorPattern pattern_;
-  std::vector<TreeStep> tree_;  // breadth-first from a central face (the root, not listed)
-  int root_ = 0;
-  std::vector<int> loop_;              // the boundary vertices in order (interior on the left)
-  std::vector<HalfEdge> loop_edges_;   // loop_[k] -> loop_[k + 1]
-  // Interior vertices next to the boundary: (interior number, boundary vertex, half-edge from the
-  // boundary vertex to the interior one).
-  struct Tie {
-    int row, boundary;
-    HalfEdge edge;
-  };
-  std::vector<Tie> ties_;
+  std::shared_ptr<const LayoutPlan> plan_;
   std::unique_ptr<SparseCholesky> own_;  // the uniform interior Laplacian (own_system)
-  Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor> rot_;  // #F scratch: (cos, sin) per face
-  // #F scratch: each face in its own frame, corner 0 at the origin, corner 1 at (l01, 0), corner 2 at
-  // (cx, cy); rows (l01, cx, cy).
-  Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> local_;
-  std::vector<char> broken_;        // #F scratch: the face's lengths violate the triangle inequality
-  Eigen::VectorXd rhs_, row_sum_;  // 2 #interior and #interior scratch
-  parallel::Partials rhs_parts_;    // other threads' shares of the right-hand side
+  std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace bdinterp

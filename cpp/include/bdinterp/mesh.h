@@ -25,6 +25,23 @@ class Mesh {
   const Faces& face_edges() const { return FE_; }
   // #E by 2: the faces on either side of each edge; the second is -1 on the boundary.
   const Edges& edge_faces() const { return EF_; }
+  // The face across edge e from face f (f must be one of e's faces); -1 on the boundary.
+  int opposite_face(int e, int f) const { return EF_(e, 0) == f ? EF_(e, 1) : EF_(e, 0); }
+  // The corner of face f opposite its edge e (e must be an edge of f).
+  int corner_of_edge(int f, int e) const { return FE_(f, 0) == e ? 0 : (FE_(f, 1) == e ? 1 : 2); }
+  // One step of a breadth-first walk over the dual graph (faces adjacent through shared edges):
+  // `face` is reached from `parent` across the edge opposite corner `face_corner` of face and
+  // `parent_corner` of parent.
+  struct DualStep {
+    int face, parent, face_corner, parent_corner;
+  };
+  // Breadth-first order over the dual graph from the faces `roots` (all at distance 0): every face
+  // reachable from them, except the roots, with the face it is first reached from. Faces of one
+  // parent come in the order of its corners.
+  std::vector<DualStep> dual_walk(const std::vector<int>& roots) const;
+  // A face farthest (in dual steps) from the boundary (the last one a walk from the boundary faces
+  // reaches): short dual paths to every face of its piece. Face 0 on a closed mesh.
+  int central_face() const;
   bool is_boundary_vertex(int v) const { return boundary_vertex_[v]; }
   bool is_isolated_vertex(int v) const { return vertex_piece_[v] < 0; }
 
@@ -38,6 +55,12 @@ class Mesh {
   int loop_piece(int k) const { return loop_piece_[k]; }
 
  private:
+  void build_edges();
+  std::vector<int> chain_boundary();  // next vertex along the boundary, -1 inside
+  void find_pieces();
+  void check_fans() const;
+  void collect_loops(const std::vector<int>& next_on_boundary);
+
   int num_vertices_;
   Faces F_;
   Edges E_;

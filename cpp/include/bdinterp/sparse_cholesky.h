@@ -1,5 +1,7 @@
-// CHOLMOD behind a small class: the symbolic analysis is done once per sparsity pattern, the numeric
-// factorisation and the solves are repeated without allocating.
+// CHOLMOD behind two small classes: the symbolic analysis of a sparsity pattern, done once and then
+// read-only (shared by every thread), and a numeric factorisation with its solve workspaces (one per
+// thread), repeated without allocating. Every CHOLMOD setting is made in one function
+// (sparse_cholesky.cpp), so every factorisation of a pattern is computed the same way.
 #pragma once
 
 #include <memory>
@@ -9,10 +11,39 @@
 
 namespace bdinterp {
 
-class SparseCholesky {
+// The fill-reducing ordering and symbolic factor of one symmetric pattern. Immutable after
+// construction; any number of SparseCholesky objects on any threads may share it.
+class CholeskyAnalysis {
  public:
   // n: matrix size. col_ptr (n+1) and row_idx: the LOWER triangle of a symmetric matrix in compressed
-  // column form, rows sorted within each column, diagonal included. Runs the symbolic analysis.
+  // column form, rows sorted within each column, diagonal included. Throws InvalidInput for an
+  // inconsistent pattern, SolverError if CHOLMOD fails.
+  CholeskyAnalysis(int n, std::vector<int> col_ptr, std::vector<int> row_idx);
+  ~CholeskyAnalysis();
+  CholeskyAnalysis(const CholeskyAnalysis&) = delete;
+  CholeskyAnalysis& operator=(const CholeskyAnalysis&) = delete;
+
+  int size() const { return static_cast<int>(col_ptr_.size()) - 1; }
+  const std::vector<int>& column_pointers() const { return col_ptr_; }
+  const std::vector<int>& row_indices() const { return rows_; }
+  // Operation counts: a numeric factorisation, and one solve (4 nnz(L)). Deterministic cost
+  // estimates for choosing between refactorising and reusing a factor.
+  double factor_flops() const { return factor_flops_; }
+  double solve_flops() const { return solve_flops_; }
+
+ private:
+  friend class SparseCholesky;
+  struct Impl;
+  std::vector<int> col_ptr_, rows_;
+  double factor_flops_ = 0, solve_flops_ = 0;
+  std::unique_ptr<Impl> impl_;
+};
+
+class SparseCholesky {
+ public:
+  // A numeric factorisation over `analysis`'s pattern (values zero until written).
+  explicit SparseCholesky(std::shared_ptr<const CholeskyAnalysis> analysis);
+  // The same with an analysis of its own (see CholeskyAnalysis for the arguments).
   SparseCholesky(int n, const std::vector<int>& col_ptr, const std::vector<int>& row_idx);
   ~SparseCholesky();
   SparseCholesky(SparseCholesky&&) noexcept;
@@ -20,33 +51,33 @@ class SparseCholesky {
   SparseCholesky(const SparseCholesky&) = delete;
   SparseCholesky& operator=(const SparseCholesky&) = delete;
 
-  // An independent solver sharing nothing with this one (for use on another thread); copies the
-  // symbolic analysis and, if present, the numeric factor.
-  SparseCholesky clone() const;
-
-  int size() const;
-  // Operation counts from the symbolic analysis: a numeric factorisation, and one solve (4 nnz(L)).
-  // Deterministic cost estimates for choosing between refactorising and reusing a factor.
-  double factor_flops() const;
-  double solve_flops() const;
+  const CholeskyAnalysis& analysis() const { return *analysis_; }
+  int size() const { return analysis_->size(); }
+  double factor_flops() const { return analysis_->factor_flops(); }
+  double solve_flops() const { return analysis_->solve_flops(); }
   // The numeric values, in the order of row_idx; write them, then call factorize().
   double* values();
   const double* values() const;
-  // The pattern given to the constructor (n + 1 column pointers, row indices).
-  const int* column_pointers() const;
-  const int* row_indices() const;
+  // The pattern (n + 1 column pointers, row indices).
+  const int* column_pointers() const { return analysis_->column_pointers().data(); }
+  const int* row_indices() const { return analysis_->row_indices().data(); }
   // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
-  // definite (naming the failing column) or CHOLMOD reports an error.
+  // definite (naming the failing column) or CHOLMOD reports an error; the factor is then invalid.
   void factorize();
+  // A valid factorisation is at hand (factorize() succeeded since the last failure).
+  bool factored() const;
+  // The factor is stored as L L' (not L D L'), as configured for speed (for tests).
+  bool factor_is_ll() const;
   // y = A x for the symmetric matrix whose lower triangle, in the order of the pattern, is
   // `values` (not necessarily the factorised one). Loops over both cores for large patterns.
   void multiply(const double* values, const double* x, double* y) const;
-  // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may alias b.
+  // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may
+  // alias b. Throws SolverError without a valid factorisation.
   void solve(const double* b, double* x, int ncols = 1);
 
  private:
   struct Impl;
-  explicit SparseCholesky(std::unique_ptr<Impl> impl);
+  std::shared_ptr<const CholeskyAnalysis> analysis_;
   std::unique_ptr<Impl> impl_;
 };
 

@@ -1,0 +1,40 @@
+// Signed areas and area-weighted centroids of faces, the one place the library computes them.
+#pragma once
+
+#include <Eigen/Core>
+
+#include "bdinterp/types.h"
+
+namespace bdinterp {
+
+// Twice the signed area of face f of X: cross(X[b] - X[a], X[c] - X[a]) for F.row(f) = (a, b, c);
+// positive when the face is counter-clockwise.
+template <typename P, typename Fc>
+inline double doubled_area(const P& X, const Fc& F, int f) {
+  const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
+  return (X(b, 0) - X(a, 0)) * (X(c, 1) - X(a, 1)) - (X(b, 1) - X(a, 1)) * (X(c, 0) - X(a, 0));
+}
+
+// Twice the total signed area of the faces F of X (positive when they are counter-clockwise).
+template <typename P, typename Fc>
+inline double doubled_total_area(const P& X, const Fc& F) {
+  double sum = 0;
+  for (int f = 0; f < F.rows(); ++f) sum += doubled_area(X, F, f);
+  return sum;
+}
+
+// The area-weighted centroid of the faces F of X (signed areas: either consistent orientation).
+// Requires a non-zero total area (callers check it: see Interpolator's validation).
+template <typename P, typename Fc>
+inline Eigen::Vector2d area_centroid(const P& X, const Fc& F) {
+  Eigen::Vector2d sum = Eigen::Vector2d::Zero();
+  double area = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const double a = doubled_area(X, F, f);
+    for (int c = 0; c < 3; ++c) sum += a * Eigen::Vector2d(X(F(f, c), 0), X(F(f, c), 1));
+    area += a;
+  }
+  return sum / (3 * area);
+}
+
+}  // namespace bdinterp

@@ -1,0 +1,181 @@
+// The Newton driver of the flattening: from the iterate u, repeat until the residual (max |2 pi -
+// angle sum|) is below the tolerance:
+//   - a chord step when the cost model prefers it: the Newton step at u solved by CG preconditioned
+//     with an earlier factorisation, accepted if it halves the residual;
+//   - otherwise a Newton step with a fresh factorisation and a line search on the energy.
+// `cur` always describes u; candidates are evaluated into `trial` and swapped in when accepted.
+#include <cmath>
+#include <sstream>
+
+#include "bdinterp/flatten.h"
+#include "detail/flatten_state.h"
+
+namespace bdinterp {
+namespace {
+constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
+// CG iterations a chord step may take before a fresh factorisation is the better deal.
+constexpr int kMaxCgIterations = 12;
+
+class NewtonDriver {
+ public:
+  NewtonDriver(Flattener::State& s, const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& o)
+      : s_(s), l2_(l2), u_(u), opt_(o), n_(s.plan.num_interior()) {}
+
+  FlattenReport run() {
+    s_.evaluate(l2_, u_, false, n_ > 0, s_.cur);  // the Hessian too: a step is likely to follow
+    s_.hessian_at_cur = n_ > 0;
+    rep_.max_broken_triangles = s_.cur.broken;
+    s_.step.resize(n_);
+    s_.trial_u = u_;
+    // Chord steps first when an earlier factorisation is at hand (the previous frame's).
+    bool chord = opt_.reuse_factorization && s_.factor_reusable;
+    while (n_ > 0 && s_.cur.residual > opt_.tolerance) {
+      if (rep_.iterations >= opt_.max_iterations)
+        fail("flattening did not converge in " + std::to_string(opt_.max_iterations) + " Newton steps");
+      ++rep_.iterations;
+      if (chord && chord_step(chord)) continue;
+      chord = newton_step();
+    }
+    rep_.residual = s_.cur.residual;
+    rep_.broken_triangles = s_.cur.broken;
+    return rep_;
+  }
+
+ private:
+  // Tries a chord step; on success sets `keep` to whether the next step should be one too.
+  bool chord_step(bool& keep) {
+    ensure_hessian();
+    const double r = s_.cur.residual;
+    // Inexact Newton: the linear residual need only be small next to the tolerance and to the
+    // quadratic error term; solving further costs solves without improving the accepted step.
+    const double eta = std::max(0.5 * opt_.tolerance, std::min(1e-3 * r, 0.1 * r * r));
+    s_.rhs = -s_.cur.defect.head(n_);
+    const int cg = detail::preconditioned_cg(*s_.factor, s_.hessian.data(), s_.rhs, eta, kMaxCgIterations,
+                                             s_.step, s_.pcg);
+    s_.policy.chord_attempt(cg);
+    evaluate_trial(1.0, false);
+    if (!(std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * r)) return false;
+    accept_trial();
+    ++rep_.chord_steps;
+    if (s_.policy.chord_accepted(cg)) {  // refresh the aging factor for the solves to come
+      s_.factorize_with_shift();
+      s_.policy.refactorised();
+      ++rep_.factorizations;
+    }
+    keep = s_.policy.prefer_chord(s_.cur.residual, opt_.tolerance, s_.cur.residual / r);
+    return true;
+  }
+
+  // A Newton step with a fresh factorisation at u and a line search; returns whether chord steps
+  // with the new factor should follow.
+  bool newton_step() {
+    ensure_hessian();
+    s_.factorize_with_shift();
+    s_.policy.refactorised();
+    s_.factor_reusable = true;
+    ++rep_.factorizations;
+    const double r = s_.cur.residual, slope = descent_direction();
+    const double step = line_search(slope);
+    if (step == 1.0) s_.policy.full_newton_step(r, s_.trial.residual);
+    accept_trial();
+    // Chord steps with this factor contract about as much as this Newton step did.
+    return opt_.reuse_factorization && step == 1.0 && s_.cur.residual > opt_.tolerance &&
+           s_.policy.prefer_chord(s_.cur.residual, opt_.tolerance, s_.cur.residual / r);
+  }
+
+  // The Newton direction into s_.step (capped), or steepest descent where the Hessian is
+  // numerically singular; returns the directional derivative (< 0).
+  double descent_direction() {
+    Eigen::VectorXd& d = s_.step;
+    const auto g = s_.cur.defect.head(n_);
+    d = -g;
+    s_.factor->solve(d.data(), d.data());
+    // Far from the solution, faces broken to (pi, 0, 0) make the energy piecewise linear and the
+    // Hessian nearly singular: cap the change of the log-scale factors (e^4 ~ 55x a length).
+    const double longest = d.cwiseAbs().maxCoeff();
+    if (longest > kMaxStep) d *= kMaxStep / longest;
+    const double slope = g.dot(d);
+    if (slope < 0) return slope;
+    d = -g * (kMaxStep / std::max(g.cwiseAbs().maxCoeff(), 1e-300));
+    return g.dot(d);
+  }
+
+  // Halves the step until it halves the residual (the quadratic phase, no energy needed) or
+  // decreases the energy enough (Armijo); returns the accepted fraction, left evaluated in trial.
+  double line_search(double slope) {
+    for (double s = 1.0;; s *= 0.5) {
+      evaluate_trial(s, false);
+      bool accept = std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * s_.cur.residual;
+      if (!accept && std::isfinite(s_.trial.residual)) {
+        if (!s_.cur.has_energy) s_.evaluate(l2_, u_, true, false, s_.cur);
+        evaluate_trial(s, true);
+        const double roundoff = 1e-13 * (std::abs(s_.cur.energy) + 1.0);
+        accept = s_.trial.energy <= s_.cur.energy + 1e-4 * s * slope ||
+                 (std::abs(slope) * s < roundoff && s_.trial.residual < s_.cur.residual);
+      }
+      if (accept) return s;
+      ++rep_.line_search_steps;
+      if (s * 0.5 < 1e-12) fail("flattening line search failed");
+    }
+  }
+
+  void ensure_hessian() {
+    if (!s_.hessian_at_cur) s_.evaluator.assemble_hessian(s_.cur, s_.hessian.data());
+    s_.hessian_at_cur = true;
+  }
+
+  // trial_u = u + fraction * step on the interior, evaluated into trial.
+  void evaluate_trial(double fraction, bool want_energy) {
+    for (int i = 0; i < n_; ++i) {
+      const int v = s_.plan.pattern.vertex[i];
+      s_.trial_u[v] = u_[v] + fraction * s_.step[i];
+    }
+    s_.evaluate(l2_, s_.trial_u, want_energy, false, s_.trial);
+  }
+
+  void accept_trial() {
+    u_.swap(s_.trial_u);
+    std::swap(s_.cur, s_.trial);  // trial_u keeps the old u: boundary zeros alike, interior rewritten
+    s_.hessian_at_cur = false;
+    rep_.max_broken_triangles = std::max(rep_.max_broken_triangles, s_.cur.broken);
+  }
+
+  [[noreturn]] void fail(const std::string& what) const {
+    std::ostringstream s;
+    s << what << " (residual " << s_.cur.residual << " > tolerance " << opt_.tolerance << ")";
+    throw SolverError(s.str());
+  }
+
+  Flattener::State& s_;
+  const Eigen::VectorXd& l2_;
+  Eigen::VectorXd& u_;
+  const FlattenOptions& opt_;
+  const int n_;
+  FlattenReport rep_;
+};
+
+}  // namespace
+
+FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options) {
+  validate(options);
+  const Mesh& m = plan_->mesh;
+  if (l2.size() != m.num_edges()) {
+    std::ostringstream s;
+    s << "flatten: l2 has " << l2.size() << " entries for " << m.num_edges() << " edges";
+    throw InvalidInput(s.str());
+  }
+  for (int e = 0; e < l2.size(); ++e) {
+    if (!(l2[e] > 0) || !std::isfinite(l2[e])) {
+      std::ostringstream s;
+      s << "flatten: squared length " << l2[e] << " of edge " << e << " (vertices " << m.edges()(e, 0) << ", "
+        << m.edges()(e, 1) << ") is not positive and finite";
+      throw InvalidInput(s.str());
+    }
+  }
+  if (u.size() != m.num_vertices()) u = Eigen::VectorXd::Zero(m.num_vertices());
+  for (int v = 0; v < m.num_vertices(); ++v)
+    if (!is_interior(v) || !std::isfinite(u[v])) u[v] = 0.0;
+  return NewtonDriver(*state_, l2, u, options).run();
+}
+
+}  // namespace bdinterp

@@ -1,0 +1,79 @@
+#include "detail/validation.h"
+
+#include <cmath>
+#include <sstream>
+
+#include "bdinterp/geometry.h"
+
+namespace bdinterp::detail {
+namespace {
+
+void validate_path(const AnchorPath& p, int num_shapes) {
+  if (num_shapes != 2) throw InvalidInput("an anchor path needs exactly two shapes");
+  if (p.t.empty() || p.angle.size() != p.t.size() || p.position.rows() != static_cast<int>(p.t.size()))
+    throw InvalidInput("anchor path: t, positions and angles must have the same non-zero length");
+  for (size_t k = 0; k < p.t.size(); ++k) {
+    const std::string at = " (entry " + std::to_string(k) + ")";
+    if (!std::isfinite(p.t[k])) throw InvalidInput("anchor path: t must be finite" + at);
+    if (k > 0 && !(p.t[k] > p.t[k - 1])) throw InvalidInput("anchor path: t must be strictly increasing" + at);
+    if (!std::isfinite(p.angle[k])) throw InvalidInput("anchor path: angles must be finite" + at);
+    if (!p.position.row(k).allFinite()) throw InvalidInput("anchor path: positions must be finite" + at);
+  }
+}
+
+}  // namespace
+
+std::string weights_text(const Eigen::VectorXd& w) {
+  std::ostringstream s;
+  s.precision(17);
+  s << "(";
+  for (Eigen::Index i = 0; i < w.size(); ++i) s << (i ? ", " : "") << w[i];
+  s << ")";
+  return s.str();
+}
+
+void validate_options(const InterpolatorOptions& o, int num_shapes) {
+  validate(o.flatten);
+  if (o.base < 0 || o.base >= num_shapes) {
+    std::ostringstream s;
+    s << "base shape index " << o.base << " out of range [0, " << num_shapes << ")";
+    throw InvalidInput(s.str());
+  }
+  if (o.threads < 0 || o.threads > InterpolatorOptions::kMaxThreads) {
+    std::ostringstream s;
+    s << "threads must be in [0, " << InterpolatorOptions::kMaxThreads << "] (got " << o.threads << ")";
+    throw InvalidInput(s.str());
+  }
+  if (!(o.max_flatness >= 0)) throw InvalidInput("max_flatness must be >= 0");
+}
+
+void validate_anchor(const Anchor& anchor, const Mesh& mesh, int num_shapes) {
+  const int v = anchor.vertex, nv = mesh.num_vertices();
+  if (anchor.mode == Anchor::Mode::Vertex && v < 0) throw InvalidInput("vertex anchor needs a vertex index");
+  if (v < -1 || v >= nv) {
+    std::ostringstream s;
+    s << "anchor vertex " << v << " is out of range [0, " << nv << ") (-1: the centroid)";
+    throw InvalidInput(s.str());
+  }
+  if (v >= 0 && anchor.mode != Anchor::Mode::Centroid && mesh.is_isolated_vertex(v))
+    throw InvalidInput("anchor vertex " + std::to_string(v) + " is in no face");
+  if (anchor.mode == Anchor::Mode::Path) validate_path(anchor.path, num_shapes);
+}
+
+void check_orientation(const Positions& X, const Piece& p, int shape, int piece) {
+  const Faces& F = p.mesh.faces();
+  double total = 0, absolute = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const double a = doubled_area(X, F, f);
+    total += a;
+    absolute += std::abs(a);
+  }
+  if (std::abs(total) > 1e-3 * absolute) return;
+  std::ostringstream s;
+  s << "shape " << shape << ": the signed areas of piece " << piece << " (faces " << p.faces.front() << ".."
+    << p.faces.back() << ") cancel (sum " << 0.5 * total << " of total " << 0.5 * absolute
+    << "): its faces are folded over each other and its centroid is undefined";
+  throw InvalidInput(s.str());
+}
+
+}  // namespace bdinterp::detail
