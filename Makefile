@@ -67,7 +67,7 @@ FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(wildcard cpp/src/*.
 
 .PHONY: fuzz fuzz-build fuzz-known asan
 .SECONDARY: $(FUZZ_OBJECTS)
-$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h)
+$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/detail/*.h)
 	@mkdir -p $(FUZZ_BUILD)
 	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
 $(FUZZ_BUILD)/%: tests/fuzz/%.cpp tests/fuzz/fuzz_common.h $(FUZZ_OBJECTS)
