@@ -28,6 +28,19 @@ constexpr long kMinItems = 2000;
 // without a futex wake-up; a Cholesky solve between evaluations takes milliseconds, during which
 // a spinning thread would only take the core from other programs.
 constexpr auto kSpin = std::chrono::microseconds(20);
+// When the caller waited for a chunk that a worker had claimed longer than its own chunks took
+// (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk (a busy
+// machine): for kBackOff, callers run all chunks themselves (the same chunks and partial sums, so
+// the same bits), then try the pool again. Costs at most one such wait per kBackOff.
+constexpr auto kBackOff = std::chrono::milliseconds(50);
+constexpr auto kSlack = std::chrono::microseconds(50);
+std::atomic<int64_t> serial_until{0};  // steady_clock ticks
+
+int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
+template <class Duration>
+int64_t ticks_of(Duration d) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(d).count();
+}
 
 thread_local int limit = 0;        // 0: none
 thread_local bool inside = false;  // running a chunk or a run(): nested runs are serial
@@ -78,13 +91,17 @@ class Pool {
       { std::lock_guard<std::mutex> lock(m_); }
       wake_.notify_all();
     }
+    const int64_t t0 = ticks();
     work(static_cast<uint32_t>(gen));
+    const int64_t t1 = ticks();
     if (!spin_until([&] { return done_.load(std::memory_order_acquire) == chunks; })) {
       std::unique_lock<std::mutex> lock(m_);
       caller_waiting_ = true;
       finished_.wait(lock, [&] { return done_.load() == chunks; });
       caller_waiting_ = false;
     }
+    const int64_t t2 = ticks();
+    if (t2 - t1 > t1 - t0 + ticks_of(kSlack)) serial_until.store(t2 + ticks_of(kBackOff), std::memory_order_relaxed);
     return true;
   }
 
@@ -155,7 +172,8 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
 }
 
 void detail::run(int chunks, ChunkFn fn, void* context) {
-  if (!inside && !forked.load(std::memory_order_relaxed)) {
+  if (!inside && !forked.load(std::memory_order_relaxed) &&
+      ticks() >= serial_until.load(std::memory_order_relaxed)) {
     inside = true;
     const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
     inside = false;
