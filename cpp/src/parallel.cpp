@@ -188,10 +188,16 @@ namespace {
 // busy cores those regions wait for threads that are not scheduled. OpenMP's dynamic adjustment,
 // set for the calling thread only (it is a per-thread setting), lets libgomp shrink such a team
 // to the idle cores (online CPUs minus the load average). Looked up at run time: bdinterp itself
-// does not link OpenMP.
+// does not need OpenMP. By handle, not RTLD_DEFAULT: Python loads extension modules (and so
+// libcholmod and libgomp) RTLD_LOCAL, outside the default symbol scope.
+void* omp_library() {
+  void* h = dlopen("libgomp.so.1", RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
+  return h ? h : RTLD_DEFAULT;
+}
 struct OmpDynamic {
-  void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "omp_set_dynamic"));
-  int (*get)() = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "omp_get_dynamic"));
+  void* lib = omp_library();
+  void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(lib, "omp_set_dynamic"));
+  int (*get)() = reinterpret_cast<int (*)()>(dlsym(lib, "omp_get_dynamic"));
 };
 const OmpDynamic& omp_dynamic() {
   static const OmpDynamic f;

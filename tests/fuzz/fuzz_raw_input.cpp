@@ -1,7 +1,8 @@
 // Fuzz target 1: raw bytes -> mesh, coordinates of two or three shapes, t / weights, options and
 // anchor. Layout of the input (all little-endian, read until the bytes run out; see fuzz_common.h):
-//   nv (1 byte, <= 64), nf (1 byte, <= 96), shapes (2 or 3), faces as vertex indices (1 byte each,
-//   taken modulo nv + 2 so out-of-range indices occur), coordinates, options, anchor, then t.
+//   nv (1 byte, <= 64), nf (1 byte, <= 96), shapes (2 or 3), face corners (2 bytes each: an index
+//   modulo nv + 2 and a shift of 0 or -1, so out-of-range indices occur), coordinates, flatten
+//   options and base, anchor, a mode byte (set_threads, strict, options.threads), then t.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -49,7 +50,10 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   opt.flatten.reuse_factorization = in.byte() & 1;
   opt.base = in.byte() % 5 - 1;  // -1 .. 3, sometimes beyond the shapes
   const bd::Anchor anchor = read_anchor(in, nv);
-  const int threads = in.byte() % 4;
+  const uint8_t mode = in.byte();  // bits 0-1: threads; 2: strict; 3: threads in the options
+  const int threads = mode & 3;
+  opt.strict = mode & 4;
+  if (mode & 8) opt.threads = static_cast<int>(in.raw<int16_t>());  // negative, huge: rejected?
   const double t = in.number(1.5);
   fuzz::check(
       [&](bd::Positions& out) {
