@@ -63,7 +63,7 @@ test-blender-43: addon  ## Blender 4.3 / Python 3.13 in a Debian 13 chroot on th
 test-wheel: addon  ## `pip wheel .` and the portable wheel install into a Python without SuiteSparse
 	bash scripts/test-wheel.sh $(BUILD)/wheel-test
 
-test: test-cpp test-python test-blender test-blender-43 test-wheel  ## everything CI runs
+test: test-cpp test-python test-blender test-blender-43 test-wheel fuzz asan  ## everything CI runs
 
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py
@@ -75,3 +75,41 @@ bench: setup      ## speed table (docs/BENCHMARKS.md); BENCH_ARGS="--sizes=5000 
 
 clean:
 	rm -rf $(BUILD) build-bench dist out
+
+# --- fuzzing and sanitizers (docs/FUZZING.md) -----------------------------------------------------
+# `make fuzz`: both libFuzzer targets of tests/fuzz (clang, ASan + UBSan), each run FUZZ_SECONDS on a
+# copy of its seed corpus; `make asan`: the C++ test suite built with ASan + UBSan and run.
+CLANGXX      ?= clang++
+FUZZ_SECONDS ?= 60
+FUZZ_BUILD   ?= build-fuzz
+FUZZ_TARGETS  = fuzz_raw_input fuzz_disk_targets
+SANITIZE      = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
+FUZZ_FLAGS    = -std=c++17 -O1 -g $(SANITIZE) -Icpp/include -Itests/cpp -I/usr/include/eigen3 \
+                -I/usr/include/suitesparse
+FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(wildcard cpp/src/*.cpp))
+
+.PHONY: fuzz fuzz-build fuzz-known asan
+.SECONDARY: $(FUZZ_OBJECTS)
+$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/detail/*.h)
+	@mkdir -p $(FUZZ_BUILD)
+	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+$(FUZZ_BUILD)/%: tests/fuzz/%.cpp tests/fuzz/fuzz_common.h $(FUZZ_OBJECTS)
+	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer $< $(FUZZ_OBJECTS) -lcholmod -lpthread -o $@
+fuzz-build: $(addprefix $(FUZZ_BUILD)/,$(FUZZ_TARGETS))
+fuzz: fuzz-build  ## each fuzz target for FUZZ_SECONDS (a finding fails, its input is in $(FUZZ_BUILD))
+	for t in $(FUZZ_TARGETS); do \
+	  rm -rf $(FUZZ_BUILD)/corpus-$$t && mkdir -p $(FUZZ_BUILD)/corpus-$$t && \
+	  cp tests/fuzz/corpus/$$t/* $(FUZZ_BUILD)/corpus-$$t/ && \
+	  $(FUZZ_BUILD)/$$t -max_total_time=$(FUZZ_SECONDS) -max_len=4096 -timeout=20 -rss_limit_mb=4096 \
+	      -print_final_stats=1 -artifact_prefix=$(FUZZ_BUILD)/$$t- \
+	      $(FUZZ_BUILD)/corpus-$$t tests/fuzz/corpus/$$t || exit 1; \
+	done
+fuzz-known: fuzz-build  ## replays tests/fuzz/known (core findings not yet fixed): which still fail
+	@for t in $(FUZZ_TARGETS); do for f in tests/fuzz/known/$$t/*; do [ -e "$$f" ] || continue; \
+	  if $(FUZZ_BUILD)/$$t $$f >/dev/null 2>&1; then echo "fixed:   $$f"; else echo "failing: $$f"; fi; \
+	done; done
+asan: setup       ## the C++ tests under AddressSanitizer + UndefinedBehaviorSanitizer
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DBDINTERP_PYTHON=OFF \
+	      -DCMAKE_CXX_COMPILER=$(CLANGXX) -DCMAKE_CXX_FLAGS="$(SANITIZE)"
+	cmake --build build-asan -j $(JOBS) --target bdinterp_tests
+	ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 build-asan/bdinterp_tests

@@ -2,12 +2,14 @@
 // linear vertex blend) and the cost of a single Newton step (the "floor": one numeric Cholesky
 // factorisation + one solve of the interior cotan Laplacian, symbolic analysis reused).
 //
-//   bdinterp_bench [--sizes=5000,50000,500000] [--big=1000000] [--reps=5] [google benchmark flags]
+//   bdinterp_bench [--sizes=5000,50000,500000] [--big=1000000] [--busy=1000,5000] [--reps=5]
+//                  [google benchmark flags]
 //
 // Meshes: jittered grids of a 2:1 bar with random diagonals; the target bends the bar by 270 degrees
 // after stretching it 1.5 x 0.6 (conformal distortion K up to ~3.7). Every BD frame is checked for
 // max |2 pi - angle sum| <= 1e-10. --big sizes only get floor, warm frame and memory.
-// After the Google Benchmark output a summary table gives the medians and the ratios to the floor.
+// After the Google Benchmark output a summary table gives the medians and the ratios to the floor,
+// then the busy-machine rows (busy.h) for the --busy sizes (--busy= for none).
 #include <benchmark/benchmark.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
@@ -28,6 +30,7 @@
 #include "bdinterp/interpolator.h"
 #include "bdinterp/mesh.h"
 #include "bdinterp/metric_blend.h"
+#include "busy.h"
 #include "test_meshes.h"
 
 namespace bd = bdinterp;
@@ -284,7 +287,12 @@ class Collector : public benchmark::ConsoleReporter {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<int> sizes{5000, 50000, 500000}, big;
+  const bench::MakeInterpolator make = [](int n) {
+    const BenchMesh m = make_mesh(n);
+    return std::make_unique<bd::Interpolator>(std::vector<bd::Positions>{m.source, m.target}, m.F);
+  };
+  bench::compete(argc, argv, make);
+  std::vector<int> sizes{5000, 50000, 500000}, big, busy{1000, 5000};
   int reps = 5;
   std::vector<char*> rest{argv[0]};
   auto parse_list = [](const char* s) {
@@ -300,6 +308,7 @@ int main(int argc, char** argv) {
     if (!std::strncmp(argv[i], "--sizes=", 8)) sizes = parse_list(argv[i] + 8);
     else if (!std::strncmp(argv[i], "--big=", 6)) big = parse_list(argv[i] + 6);
     else if (!std::strncmp(argv[i], "--reps=", 7)) reps = std::atoi(argv[i] + 7);
+    else if (!std::strncmp(argv[i], "--busy=", 7)) busy = parse_list(argv[i] + 7);
     else rest.push_back(argv[i]);
   }
   // Memory first, from a small parent process.
@@ -371,6 +380,7 @@ int main(int argc, char** argv) {
   std::printf("columns: cold/fl, warm/fl = frame time / floor (targets <= 4, <= 1.5); newton_c/_w = Newton "
               "steps per cold/warm frame (chord steps included);\n         bake = frames(ts) with 2 "
               "threads, 101 frames; peak_B/v = peak RSS of a fresh process (build + 6 frames) per vertex.\n");
+  if (!busy.empty()) bench::print_busy_rows(busy, std::max(reps, 9), make);
   benchmark::Shutdown();
   return 0;
 }

@@ -6,7 +6,6 @@
 # position-independent (measured: 6897 absolute relocations in libcholmod.a; ld refuses them in a
 # shared object), so scripts/bundle_libs.py copies the shared ones next to the module under
 # private names (RUNPATH $ORIGIN), as auditwheel does.
-set(CMAKE_DISABLE_FIND_PACKAGE_OpenMP ON)  # bdinterp's own loops: no OpenMP, frames still threaded
 
 # Links `target` (a MODULE library) with the static C++ runtime.
 function(bdinterp_portable_link target)

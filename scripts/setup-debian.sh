@@ -10,6 +10,7 @@ packages=(
   blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
   xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
+  clang libclang-rt-14-dev                                # fuzz targets (libFuzzer) and the ASan/UBSan test build
 )
 missing=()
 for p in "${packages[@]}"; do

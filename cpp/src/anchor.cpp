@@ -68,9 +68,8 @@ Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
   double* raw = rot + tree_.size();  // second half of the scratch: the angles as atan2 gives them
   const long slots = static_cast<long>(tree_.size());
   const int threads = parallel::loop_threads(slots);
-  double sx = 0, sy = 0, area = 0;  // signed: any orientation works
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(+ : sx, sy, area)
-  for (long k = 0; k < slots; ++k) {
+  parallel::PerChunk psx(threads), psy(threads), parea(threads);  // signed: any orientation works
+  parallel::for_each(threads, slots, [&](int chunk, long k) {
     const int f = tree_[k][0];
     const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
     const double e1x = X(v1, 0) - X(v0, 0), e1y = X(v1, 1) - X(v0, 1);
@@ -81,10 +80,11 @@ Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
     raw[k] = fast_atan2(num_re, -num_im);
     // The centroid of the region given by set_region, else the whole piece's (area-weighted).
     const double a = region_ ? weight_[k] : e1x * e2y - e1y * e2x;
-    sx += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
-    sy += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
-    area += a;
-  }
+    psx.at(chunk) += a * (X(v0, 0) + X(v1, 0) + X(v2, 0));
+    psy.at(chunk) += a * (X(v0, 1) + X(v1, 1) + X(v2, 1));
+    parea.at(chunk) += a;
+  });
+  const double sx = psx.sum(), sy = psy.sum(), area = parea.sum();
   rot[0] = raw[0];
   for (long k = 1; k < slots; ++k) {
     const int parent = tree_[k][1];

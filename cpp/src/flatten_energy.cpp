@@ -92,13 +92,11 @@ void EnergyEvaluator::scale(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
   out.scaled_l2.resize(ne);
   out.scaled_len.resize(ne);
   // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (Eigen::Index v = 0; v < nv; ++v) exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (Eigen::Index e = 0; e < ne; ++e) {
+  parallel::for_each(threads, nv, [&](int, long v) { exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]); });
+  parallel::for_each(threads, ne, [&](int, long e) {
     out.scaled_l2[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
     out.scaled_len[e] = std::sqrt(out.scaled_l2[e]);
-  }
+  });
 }
 
 void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
@@ -120,28 +118,25 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
     std::fill_n(im_parts_.buffer(k, corner_im_.data()), rows, 0.0);
     if (H) std::fill_n(hessian_parts_.buffer(k, H), plan_->nnz() + 1, 0.0);
   }
-  double energy = 0;
-  int broken = 0;
-  // One contiguous block of faces per thread, each with its own accumulators.
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(+ : energy, broken)
-  for (int k = 0; k < threads; ++k) {
+  parallel::PerChunk energies(threads), brokens(threads);
+  parallel::for_each(threads, nf, [&](int k, long f) {
     Accumulator a{sum_parts_.buffer(k, out.defect.data()), re_parts_.buffer(k, corner_re_.data()),
                   im_parts_.buffer(k, corner_im_.data()), H ? hessian_parts_.buffer(k, H) : nullptr};
-    const long end = nf * (k + 1) / threads;
-    for (long f = nf * k / threads; f < end; ++f) accumulate_face(plan_->slots[f], out, want_energy, a);
-    energy += a.energy;
-    broken += a.broken;
-  }
+    accumulate_face(plan_->slots[f], out, want_energy, a);
+    energies.at(k) += a.energy;
+    brokens.at(k) += a.broken;
+  });
+  double energy = energies.sum();
+  const int broken = static_cast<int>(brokens.sum());
   // Every thread's share of the half-angle sums, into the gradient 2 pi - sum.
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int i = 0; i < n; ++i) {
+  parallel::for_each(threads, n, [&](int, long i) {
     double total = 0;
     for (int t = 0; t < threads; ++t) {
       total += sum_parts_.buffer(t, out.defect.data())[i] +
                argument(re_parts_.buffer(t, corner_re_.data())[i], im_parts_.buffer(t, corner_im_.data())[i]);
     }
     out.defect[i] = kTwoPi - 2 * total;
-  }
+  });
   out.defect[n] = 0;
   if (H) hessian_parts_.add_into(H);
   if (want_energy) {
@@ -158,18 +153,14 @@ void EnergyEvaluator::assemble_hessian(const Evaluation& at, double* H) {
   const int threads = parallel::loop_threads(nf), size = plan_->nnz() + 1;
   hessian_parts_.prepare(threads, size);
   for (int k = 0; k < threads; ++k) std::fill_n(hessian_parts_.buffer(k, H), size, 0.0);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int k = 0; k < threads; ++k) {  // one contiguous block of faces per thread
-    double* h = hessian_parts_.buffer(k, H);
-    const long end = nf * (k + 1) / threads;
-    for (long f = nf * k / threads; f < end; ++f) {
-      const FaceSlots& s = plan_->slots[f];
-      const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
-      const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};
-      double cot[3];
-      if (!triangle_cotangents_from_lengths(l, l2, cot)) scatter_cotangents(cot, s, h);
-    }
-  }
+  parallel::for_each(threads, nf, [&](int k, long f) {
+    const FaceSlots& s = plan_->slots[f];
+    const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
+    const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};
+    double cot[3];
+    if (!triangle_cotangents_from_lengths(l, l2, cot))
+      scatter_cotangents(cot, s, hessian_parts_.buffer(k, H));
+  });
   hessian_parts_.add_into(H);
 }
 

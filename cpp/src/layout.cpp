@@ -138,13 +138,12 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   if (!flatness) return;
   const Edges& E = m.edges();
   const int threads = parallel::loop_threads(E.rows());
-  double worst = 0;
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static) reduction(max : worst)
-  for (int e = 0; e < E.rows(); ++e) {
+  parallel::PerChunk worst(threads);
+  parallel::for_each(threads, E.rows(), [&](int k, long e) {
     const double dx = X(E(e, 1), 0) - X(E(e, 0), 0), dy = X(E(e, 1), 1) - X(E(e, 0), 1);
-    worst = std::max(worst, std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
-  }
-  *flatness = worst;
+    worst.at(k) = std::max(worst.at(k), std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
+  });
+  *flatness = worst.max();
 }
 
 void Layout::place_faces(const Eigen::VectorXd& l2) {
@@ -154,8 +153,7 @@ void Layout::place_faces(const Eigen::VectorXd& l2) {
   const int threads = parallel::loop_threads(nf);
   // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
   // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry).
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int f = 0; f < nf; ++f) {
+  parallel::for_each(threads, nf, [&](int, long f) {
     const int* fe = &FE(f, 0);
     const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
     const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
@@ -172,7 +170,7 @@ void Layout::place_faces(const Eigen::VectorXd& l2) {
       cy = 0.0;
     }
     s.local.row(f) << l[2], cx, cy;
-  }
+  });
   // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
   // the same vector seen from both faces, run in opposite directions, so
   // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a face
@@ -236,28 +234,24 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
   const int threads = parallel::loop_threads(nf);
   s.rhs_parts.prepare(threads, 2 * n);
   for (int k = 0; k < threads; ++k) std::fill_n(s.rhs_parts.buffer(k, s.rhs.data()), 2 * n, 0.0);
-#pragma omp parallel for num_threads(threads) if (threads > 1) schedule(static)
-  for (int k = 0; k < threads; ++k) {  // one contiguous block of faces per thread
+  parallel::for_each(threads, nf, [&](int k, long f) {
     double* b = s.rhs_parts.buffer(k, s.rhs.data());
-    const int end = static_cast<int>(static_cast<long>(nf) * (k + 1) / threads);
-    for (int f = static_cast<int>(static_cast<long>(nf) * k / threads); f < end; ++f) {
-      double local[3][2];
-      local_half_edges(&s.local(f, 0), local);
-      const double rc = s.rot(f, 0), rs = s.rot(f, 1);
-      for (int c = 0; c < 3; ++c) {
-        const int p = pattern.edge_pos[FE(f, c)];
-        if (p < 0) continue;
-        const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
-        // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
-        const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
-        const double w = 0.5 * M[p];  // = -(half the weight)
-        b[i] += w * d0;
-        b[n + i] += w * d1;
-        b[j] -= w * d0;
-        b[n + j] -= w * d1;
-      }
+    double local[3][2];
+    local_half_edges(&s.local(f, 0), local);
+    const double rc = s.rot(f, 0), rs = s.rot(f, 1);
+    for (int c = 0; c < 3; ++c) {
+      const int p = pattern.edge_pos[FE(f, c)];
+      if (p < 0) continue;
+      const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
+      // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
+      const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
+      const double w = 0.5 * M[p];  // = -(half the weight)
+      b[i] += w * d0;
+      b[n + i] += w * d1;
+      b[j] -= w * d0;
+      b[n + j] -= w * d1;
     }
-  }
+  });
   s.rhs_parts.add_into(s.rhs.data());
   for (const LayoutPlan::Tie& t : plan_->ties) {
     double d[2];

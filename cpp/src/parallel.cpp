@@ -1,8 +1,21 @@
 #include "bdinterp/parallel.h"
 
-#ifdef _OPENMP
-#include <omp.h>
+#include <dlfcn.h>
 #include <pthread.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <cstdint>
+#include <mutex>
+#include <thread>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#define BDINTERP_PAUSE() _mm_pause()
+#else
+#define BDINTERP_PAUSE() std::this_thread::yield()
 #endif
 
 namespace bdinterp::parallel {
@@ -10,39 +23,202 @@ namespace {
 // Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
-thread_local int limit = 0;  // 0: none
+// How long an idle worker (or a caller waiting for the last chunk) spins before it sleeps. The loops
+// of one evaluation follow each other within microseconds, so a short spin catches the next loop
+// without a futex wake-up; a Cholesky solve between evaluations takes milliseconds, during which
+// a spinning thread would only take the core from other programs.
+constexpr auto kSpin = std::chrono::microseconds(20);
+// When the caller waited for a chunk that a worker had claimed longer than its own chunks took
+// (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk (a busy
+// machine): for kBackOff, callers run all chunks themselves (the same chunks and partial sums, so
+// the same bits), then try the pool again. Costs at most one such wait per kBackOff.
+constexpr auto kBackOff = std::chrono::milliseconds(50);
+constexpr auto kSlack = std::chrono::microseconds(50);
+std::atomic<int64_t> serial_until{0};  // steady_clock ticks
 
-#ifdef _OPENMP
-// OpenMP's thread pool does not survive fork(): a child that starts a parallel region after its
-// parent ran one waits forever for threads that were not copied (e.g. Python's multiprocessing).
-// Children run their loops serially instead.
-bool forked = false;
-void note_fork() { forked = true; }
+int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
+template <class Duration>
+int64_t ticks_of(Duration d) {
+  return std::chrono::duration_cast<std::chrono::steady_clock::duration>(d).count();
+}
+
+thread_local int limit = 0;        // 0: none
+thread_local bool inside = false;  // running a chunk or a run(): nested runs are serial
+
+// The pool does not survive fork(): a child (e.g. of Python's multiprocessing) runs serially.
+std::atomic<bool> forked{false};
+void note_fork() { forked.store(true); }
 const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
-#endif
+
+int cores() {
+  static const int n = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return n;
+}
+
+// Spins up to kSpin, checking `ready` between pauses; true once it holds.
+template <class Ready>
+bool spin_until(Ready&& ready) {
+  const auto until = std::chrono::steady_clock::now() + kSpin;
+  for (int k = 0;; ++k) {
+    if (ready()) return true;
+    BDINTERP_PAUSE();
+    if ((k & 63) == 63 && std::chrono::steady_clock::now() > until) return ready();
+  }
+}
+
+// One job at a time. Its state is one atomic word: generation (32 bits) | chunks (16) | next chunk
+// (16); a thread claims a chunk by a compare-exchange that also checks the generation, so a worker
+// that wakes late can never claim a chunk of a later job. fn_/context_ are read only after a
+// successful claim, and the caller does not start another job before every claimed chunk is done.
+class Pool {
+ public:
+  static Pool& instance() {
+    static Pool* pool = new Pool;  // never destroyed: workers sleep until the process ends
+    return *pool;
+  }
+
+  // False if another thread is using the pool (the caller then runs the chunks itself).
+  bool run(int chunks, detail::ChunkFn fn, void* context) {
+    std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
+    if (!job.owns_lock()) return false;
+    grow(std::min(chunks, cores()) - 1);
+    fn_ = fn;
+    context_ = context;
+    done_.store(0);
+    const uint64_t gen = (state_.load() >> 32) + 1;
+    state_.store(gen << 32 | static_cast<uint64_t>(chunks) << 16);
+    if (sleepers_.load() > 0) {
+      { std::lock_guard<std::mutex> lock(m_); }
+      wake_.notify_all();
+    }
+    const int64_t t0 = ticks();
+    work(static_cast<uint32_t>(gen));
+    const int64_t t1 = ticks();
+    if (!spin_until([&] { return done_.load(std::memory_order_acquire) == chunks; })) {
+      std::unique_lock<std::mutex> lock(m_);
+      caller_waiting_ = true;
+      finished_.wait(lock, [&] { return done_.load() == chunks; });
+      caller_waiting_ = false;
+    }
+    const int64_t t2 = ticks();
+    if (t2 - t1 > t1 - t0 + ticks_of(kSlack)) serial_until.store(t2 + ticks_of(kBackOff), std::memory_order_relaxed);
+    return true;
+  }
+
+ private:
+  // Claims and runs chunks of job `gen` until none is left.
+  void work(uint32_t gen) {
+    uint64_t s = state_.load(std::memory_order_acquire);
+    for (;;) {
+      if (static_cast<uint32_t>(s >> 32) != gen) return;
+      const int chunks = static_cast<int>((s >> 16) & 0xffff), next = static_cast<int>(s & 0xffff);
+      if (next >= chunks) return;
+      if (!state_.compare_exchange_weak(s, s + 1, std::memory_order_acq_rel)) continue;
+      fn_(context_, next);
+      if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) {
+        std::lock_guard<std::mutex> lock(m_);
+        if (caller_waiting_) finished_.notify_one();
+      }
+      s = state_.load(std::memory_order_acquire);
+    }
+  }
+
+  void worker() {
+    inside = true;
+    uint32_t seen = static_cast<uint32_t>(state_.load() >> 32);
+    for (;;) {
+      auto fresh = [&] { return static_cast<uint32_t>(state_.load() >> 32) != seen; };
+      if (!spin_until(fresh)) {
+        std::unique_lock<std::mutex> lock(m_);
+        sleepers_.fetch_add(1);
+        wake_.wait(lock, fresh);
+        sleepers_.fetch_sub(1);
+      }
+      seen = static_cast<uint32_t>(state_.load() >> 32);
+      work(seen);
+    }
+  }
+
+  void grow(int workers) {
+    while (static_cast<int>(count_) < workers) {
+      std::thread([this] { worker(); }).detach();
+      ++count_;
+    }
+  }
+
+  std::mutex dispatch_;  // held by the thread whose job is running
+  std::mutex m_;         // for the sleeping side of the waits
+  std::condition_variable wake_, finished_;
+  std::atomic<uint64_t> state_{0};
+  std::atomic<int> done_{0}, sleepers_{0};
+  bool caller_waiting_ = false;  // guarded by m_
+  detail::ChunkFn fn_ = nullptr;
+  void* context_ = nullptr;
+  unsigned count_ = 0;  // workers started (guarded by dispatch_)
+};
+
 }  // namespace
 
 int loop_threads(long items) {
-#ifdef _OPENMP
-  if (items < kMinItems || forked) return 1;
-  const int all = omp_get_max_threads();
+  if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
+  const int all = std::min(cores(), 0xffff);
   return limit > 0 && limit < all ? limit : all;
-#else
-  (void)items;
-  return 1;
-#endif
 }
 
-int thread_index() {
-#ifdef _OPENMP
-  return omp_get_thread_num();
-#else
-  return 0;
-#endif
+std::pair<long, long> share(long n, int chunk, int chunks) {
+  const long q = n / chunks, r = n % chunks;
+  const long first = chunk * q + std::min<long>(chunk, r);
+  return {first, first + q + (chunk < r ? 1 : 0)};
 }
 
-ThreadLimit::ThreadLimit(int threads) : saved_(limit) { limit = threads; }
-ThreadLimit::~ThreadLimit() { limit = saved_; }
+void detail::run(int chunks, ChunkFn fn, void* context) {
+  if (!inside && !forked.load(std::memory_order_relaxed) &&
+      ticks() >= serial_until.load(std::memory_order_relaxed)) {
+    inside = true;
+    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
+    inside = false;
+    if (ran) return;
+  }
+  for (int k = 0; k < chunks; ++k) fn(context, k);
+}
+
+namespace {
+// CHOLMOD (Debian's libcholmod links libgomp) runs parallel regions of a fixed 4 threads inside
+// supernodal factorisations (CHOLMOD_OMP_NUM_THREADS), whatever bdinterp's own threading: on two
+// busy cores those regions wait for threads that are not scheduled. OpenMP's dynamic adjustment,
+// set for the calling thread only (it is a per-thread setting), lets libgomp shrink such a team
+// to the idle cores (online CPUs minus the load average). Looked up at run time: bdinterp itself
+// does not need OpenMP. By handle, not RTLD_DEFAULT: Python loads extension modules (and so
+// libcholmod and libgomp) RTLD_LOCAL, outside the default symbol scope.
+void* omp_library() {
+  void* h = dlopen("libgomp.so.1", RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
+  return h ? h : RTLD_DEFAULT;
+}
+struct OmpDynamic {
+  void* lib = omp_library();
+  void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(lib, "omp_set_dynamic"));
+  int (*get)() = reinterpret_cast<int (*)()>(dlsym(lib, "omp_get_dynamic"));
+};
+const OmpDynamic& omp_dynamic() {
+  static const OmpDynamic f;
+  return f;
+}
+}  // namespace
+
+ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
+  limit = threads;
+  const OmpDynamic& omp = omp_dynamic();
+  if (omp.set && omp.get) {
+    saved_dynamic_ = omp.get();
+    omp.set(1);
+  }
+}
+
+ThreadLimit::~ThreadLimit() {
+  limit = saved_;
+  const OmpDynamic& omp = omp_dynamic();
+  if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
+}
 
 void Partials::prepare(int threads, long size) {
   threads_ = threads;
@@ -56,6 +232,18 @@ void Partials::add_into(double* target) const {
     const double* p = parts_[k].data();
     for (long i = 0; i < size_; ++i) target[i] += p[i];
   }
+}
+
+double PerChunk::sum() const {
+  double s = 0;
+  for (const Slot& v : values_) s += v.value;
+  return s;
+}
+
+double PerChunk::max() const {
+  double m = values_[0].value;
+  for (const Slot& v : values_) m = std::max(m, v.value);
+  return m;
 }
 
 }  // namespace bdinterp::parallel

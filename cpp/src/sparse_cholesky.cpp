@@ -177,12 +177,11 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
   const int threads = parallel::loop_threads(col_ptr[n] / 4);
   parallel::Partials& parts = impl_->product_parts;
   parts.prepare(threads, n);
-#pragma omp parallel num_threads(threads) if (threads > 1)
-  {
-    double* out = parts.buffer(parallel::thread_index(), y);
+  parallel::run(threads, [&](int k) {
+    double* out = parts.buffer(k, y);
     std::fill_n(out, n, 0.0);
-#pragma omp for schedule(static)
-    for (int j = 0; j < n; ++j) {
+    const auto [first, last] = parallel::share(n, k, threads);
+    for (int j = first; j < last; ++j) {
       const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
       double acc = values[p0] * x[j];  // diagonal first in every column
       const double xj = x[j];
@@ -193,7 +192,7 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
       }
       out[j] += acc;
     }
-  }
+  });
   parts.add_into(y);
 }
 

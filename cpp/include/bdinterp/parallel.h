@@ -1,18 +1,58 @@
-// Internal: intra-frame parallelism. The face and edge loops of one frame are split over the cores
-// (OpenMP), except inside Interpolator::frames(), which already solves one frame per core.
+// Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
+// chunks run by a small pool of its own (std::thread; workers spin for a few microseconds, then
+// sleep), except inside Interpolator::frames(), which already solves one frame per core.
+//
+// Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
+// split made every loop wait for the thread that shared its core, and its threads spin while they
+// wait (docs/BENCHMARKS.md, "Busy machine"). Here the calling thread takes chunks too, so a chunk
+// whose worker has not been scheduled is simply done by the caller: a frame is never slower than
+// the serial loop by more than the wake-up, and results do not depend on who ran which chunk.
 #pragma once
 
+#include <utility>
 #include <vector>
 
 namespace bdinterp::parallel {
 
-// Threads to use for a loop of `items` independent iterations started on the calling thread: 1 for
-// small loops (a fork/join costs a few microseconds), else all cores up to this thread's limit.
+// Chunks to split a loop of `items` independent iterations into (started on the calling thread):
+// 1 for small loops (a fork/join costs a few microseconds), else the number of cores up to this
+// thread's limit. 1 in a child process after fork().
 int loop_threads(long items);
-// This thread's index inside a parallel region (0 outside).
-int thread_index();
 
-// While alive, loops started on this thread use at most `threads` threads (0: no limit).
+// The contiguous share [first, second) of chunk `chunk` out of `chunks` of n iterations (the
+// split of OpenMP's schedule(static): the first n % chunks chunks get one iteration more).
+std::pair<long, long> share(long n, int chunk, int chunks);
+
+namespace detail {
+using ChunkFn = void (*)(void* context, int chunk);
+void run(int chunks, ChunkFn fn, void* context);
+}  // namespace detail
+
+// Calls body(chunk) for chunk = 0 .. chunks-1, on the calling thread and the pool's workers, and
+// returns when all have returned. Chunks may run in any order and on any thread; a body must only
+// depend on its chunk index (results are then bit-identical for a given number of chunks). Bodies
+// must not throw. Nested or concurrent calls run their chunks serially on the calling thread.
+template <class Body>
+void run(int chunks, Body&& body) {
+  if (chunks <= 1) {
+    body(0);
+    return;
+  }
+  detail::run(chunks, [](void* c, int k) { (*static_cast<Body*>(c))(k); }, &body);
+}
+
+// for (i in [0, n)) body(chunk, i), split into `chunks` contiguous shares (see share()).
+template <class Body>
+void for_each(int chunks, long n, Body&& body) {
+  run(chunks, [&](int k) {
+    const auto [first, last] = share(n, k, chunks);
+    for (long i = first; i < last; ++i) body(k, i);
+  });
+}
+
+// While alive, loops started on this thread use at most `threads` chunks (0: no limit), and
+// OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
+// for when the machine is busy (omp_set_dynamic(1), if libgomp is loaded; restored afterwards).
 class ThreadLimit {
  public:
   explicit ThreadLimit(int threads);
@@ -22,22 +62,41 @@ class ThreadLimit {
 
  private:
   int saved_;
+  int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
 };
 
-// Per-thread accumulation buffers for scatter-adds (thread 0 writes into the caller's array, the
-// others into their own, summed afterwards in a fixed order, so results do not depend on timing).
+// Per-chunk accumulation buffers for scatter-adds and reductions (chunk 0 writes into the caller's
+// array, the others into their own, summed afterwards in chunk order, so results do not depend on
+// timing).
 class Partials {
  public:
-  // Buffers of `size` for threads 1 .. threads-1 (kept between calls).
-  void prepare(int threads, long size);
-  double* buffer(int thread, double* own) { return thread == 0 ? own : parts_[thread - 1].data(); }
-  // target[i] += sum of the other threads' buffers.
+  // Buffers of `size` for chunks 1 .. chunks-1 (kept between calls).
+  void prepare(int chunks, long size);
+  double* buffer(int chunk, double* own) { return chunk == 0 ? own : parts_[chunk - 1].data(); }
+  // target[i] += sum of the other chunks' buffers, in chunk order.
   void add_into(double* target) const;
 
  private:
   int threads_ = 1;
   long size_ = 0;
   std::vector<std::vector<double>> parts_;
+};
+
+// One value per chunk (a reduction without atomics), starting at 0: updated through at(chunk),
+// combined in chunk order. Each value has a cache line of its own, so chunks running at the same
+// time do not invalidate each other's line on every update.
+class PerChunk {
+ public:
+  explicit PerChunk(int chunks) : values_(chunks > 1 ? chunks : 1) {}
+  double& at(int chunk) { return values_[chunk].value; }
+  double sum() const;
+  double max() const;
+
+ private:
+  struct alignas(64) Slot {
+    double value = 0;
+  };
+  std::vector<Slot> values_;
 };
 
 }  // namespace bdinterp::parallel
