@@ -81,6 +81,13 @@ TEST(Parallel, IdleWorkersSleep) {
   // After a loop, the workers spin for at most ~20 us, then block: 0.2 s of idling must cost the
   // process (nearly) no CPU time. A pool that waits actively (OMP_WAIT_POLICY=active) would burn
   // ~0.2 s per worker here; libgomp's default spins 300k rounds after every region.
+  // First wait until the process is quiet: OpenBLAS (linked through CHOLMOD) starts its own threads,
+  // which spin ~0.1 s after start-up (measured: 0.10 s of CPU in the first 0.2 s) before they sleep.
+  for (int k = 0; k < 20; ++k) {
+    const double t = cpu_seconds();
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    if (cpu_seconds() - t < 0.002) break;
+  }
   std::vector<double> x(100000, 1.0);
   parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
   const double before = cpu_seconds();
