@@ -14,7 +14,6 @@
 
 namespace bdinterp {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 }  // namespace
 

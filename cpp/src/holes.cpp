@@ -8,12 +8,12 @@
 #include <limits>
 #include <sstream>
 
+#include "bdinterp/geometry.h"
 #include "bdinterp/lobachevsky.h"
 #include "bdinterp/triangle.h"
 
 namespace bdinterp {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
 // Closing the holes' periods: at most this many Newton steps on the dipoles, until every period
 // (relative to the loop's length) is below the flattening's tolerance (the angle residual limits
@@ -50,15 +50,6 @@ struct LowerPattern {
   }
 };
 
-double signed_loop_area(const std::vector<int>& loop, const Positions& X) {
-  double a = 0;
-  for (size_t k = 0; k < loop.size(); ++k) {
-    const auto p = X.row(loop[k]), q = X.row(loop[(k + 1) % loop.size()]);
-    a += p.x() * q.y() - p.y() * q.x();
-  }
-  return 0.5 * a;
-}
-
 }  // namespace
 
 HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece) {
@@ -67,7 +58,7 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
   if (all.empty()) throw InvalidInput("a piece without boundary cannot be flattened");
   size_t outer = 0;
   for (size_t k = 1; k < all.size(); ++k)
-    if (std::abs(signed_loop_area(all[k], base)) > std::abs(signed_loop_area(all[outer], base))) outer = k;
+    if (std::abs(loop_area(base, all[k])) > std::abs(loop_area(base, all[outer]))) outer = k;
   unknown_.assign(nv, -1);
   std::vector<double> target;
   for (int v = 0; v < nv; ++v) {

@@ -1,7 +1,5 @@
 #include "bdinterp/interpolator.h"
 
-#include <dlfcn.h>
-
 #include <algorithm>
 #include <cfloat>
 #include <chrono>
@@ -26,30 +24,6 @@ using detail::check_orientation;
 using detail::validate_anchor;
 using detail::validate_options;
 using detail::weights_text;
-
-class SingleThreadedBlas {
- public:
-  explicit SingleThreadedBlas(bool active) {
-    if (!active) return;
-    set_ = reinterpret_cast<void (*)(int)>(dlsym(RTLD_DEFAULT, "openblas_set_num_threads"));
-    const auto get = reinterpret_cast<int (*)()>(dlsym(RTLD_DEFAULT, "openblas_get_num_threads"));
-    if (set_ && get) {
-      saved_ = get();
-      set_(1);
-    } else {
-      set_ = nullptr;
-    }
-  }
-  ~SingleThreadedBlas() {
-    if (set_) set_(saved_);
-  }
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
- private:
-  void (*set_)(int) = nullptr;
-  int saved_ = 1;
-};
 
 // Frames merged: the flattening's reports by their one rule, the worst flatness, the first warning.
 void merge(FrameStats& into, const FrameStats& s) {
@@ -370,7 +344,7 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     }
   };
   {
-    const SingleThreadedBlas blas(workers > 1);
+    const parallel::SingleThreadedBlas blas(workers > 1);
     std::vector<std::thread> pool;
     for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
     run(0);

@@ -1,12 +1,13 @@
 #include "bdinterp/lobachevsky.h"
 
+#include "bdinterp/types.h"
+
 #include <array>
 #include <cmath>
 
 namespace bdinterp {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 constexpr int kTerms = 28;  // (x/2pi)^(2k) <= 4^-k on [0, pi]: 28 terms reach 1e-17
 
 // c_k = zeta(2k) / (k (2k+1)), from Cl2(x) = x - x log x + x sum_k c_k (x / 2pi)^(2k), |x| < 2pi,

@@ -11,15 +11,21 @@
 #include <mutex>
 #include <thread>
 
-#if defined(__x86_64__) || defined(__i386__)
-#include <immintrin.h>
-#define BDINTERP_PAUSE() _mm_pause()
-#else
-#define BDINTERP_PAUSE() std::this_thread::yield()
+#ifdef __SSE2__
+#include <immintrin.h>  // _mm_pause
 #endif
 
 namespace bdinterp::parallel {
 namespace {
+// The spin-wait hint: tells the core (and its hyper-thread sibling) that this thread only waits.
+inline void pause_cpu() {
+#ifdef __SSE2__
+  _mm_pause();
+#else
+  std::this_thread::yield();
+#endif
+}
+
 // Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
@@ -61,7 +67,7 @@ bool spin_until(Ready&& ready) {
   const auto until = std::chrono::steady_clock::now() + kSpin;
   for (int k = 0;; ++k) {
     if (ready()) return true;
-    BDINTERP_PAUSE();
+    pause_cpu();
     if ((k & 63) == 63 && std::chrono::steady_clock::now() > until) return ready();
   }
 }
@@ -190,12 +196,13 @@ namespace {
 // to the idle cores (online CPUs minus the load average). Looked up at run time: bdinterp itself
 // does not need OpenMP. By handle, not RTLD_DEFAULT: Python loads extension modules (and so
 // libcholmod and libgomp) RTLD_LOCAL, outside the default symbol scope.
-void* omp_library() {
-  void* h = dlopen("libgomp.so.1", RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
+// The same holds for OpenBLAS (SingleThreadedBlas).
+void* loaded_library(const char* soname) {
+  void* h = dlopen(soname, RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
   return h ? h : RTLD_DEFAULT;
 }
 struct OmpDynamic {
-  void* lib = omp_library();
+  void* lib = loaded_library("libgomp.so.1");
   void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(lib, "omp_set_dynamic"));
   int (*get)() = reinterpret_cast<int (*)()>(dlsym(lib, "omp_get_dynamic"));
 };
@@ -218,6 +225,23 @@ ThreadLimit::~ThreadLimit() {
   limit = saved_;
   const OmpDynamic& omp = omp_dynamic();
   if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
+}
+
+SingleThreadedBlas::SingleThreadedBlas(bool active) {
+  if (!active) return;
+  void* lib = loaded_library("libopenblas.so.0");
+  set_ = reinterpret_cast<void (*)(int)>(dlsym(lib, "openblas_set_num_threads"));
+  const auto get = reinterpret_cast<int (*)()>(dlsym(lib, "openblas_get_num_threads"));
+  if (set_ && get) {
+    saved_ = get();
+    set_(1);
+  } else {
+    set_ = nullptr;
+  }
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  if (set_) set_(saved_);
 }
 
 void Partials::prepare(int threads, long size) {

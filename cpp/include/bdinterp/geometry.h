@@ -1,4 +1,5 @@
-// Signed areas and area-weighted centroids of faces, the one place the library computes them.
+// Signed areas (of faces and of boundary loops) and area-weighted centroids of faces, the one place
+// the library computes them.
 #pragma once
 
 #include <Eigen/Core>
@@ -35,6 +36,18 @@ inline Eigen::Vector2d area_centroid(const P& X, const Fc& F) {
     area += a;
   }
   return sum / (3 * area);
+}
+
+// The signed area of the closed polygon X[loop[0]], X[loop[1]], ... (shoelace; positive when it runs
+// counter-clockwise), e.g. a boundary loop of a Mesh.
+template <typename P, typename Loop>
+inline double loop_area(const P& X, const Loop& loop) {
+  double a = 0;
+  for (size_t k = 0; k < loop.size(); ++k) {
+    const int p = loop[k], q = loop[(k + 1) % loop.size()];
+    a += X(p, 0) * X(q, 1) - X(p, 1) * X(q, 0);
+  }
+  return 0.5 * a;
 }
 
 }  // namespace bdinterp

@@ -7,6 +7,8 @@
 
 namespace bdinterp {
 
+inline constexpr double kPi = 3.14159265358979323846;
+
 // #V by 2 list of vertex positions, one row per vertex (row-major so numpy (n,2) maps without a copy).
 using Positions = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
 // #F by 3 list of vertex indices, one triangle per row; counter-clockwise or clockwise, but consistent.
