@@ -8,6 +8,7 @@
 
 #include "bdinterp/holes.h"
 #include "bdinterp/metric_blend.h"
+#include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
@@ -37,13 +38,7 @@ Annulus annulus(int nr, int nt, unsigned seed = 3) {
   for (int i = 0; i < nr; ++i) {
     for (int j = 0; j < nt; ++j) {
       const int p = i * nt + j, q = i * nt + (j + 1) % nt, r = q + nt, s = p + nt;
-      if (rng() % 2) {
-        a.F.row(f++) << p, q, r;
-        a.F.row(f++) << p, r, s;
-      } else {
-        a.F.row(f++) << p, q, s;
-        a.F.row(f++) << q, r, s;
-      }
+      testing::split_quad(a.F, f, p, q, r, s, rng() % 2 == 0);
     }
   }
   return a;

@@ -17,6 +17,18 @@ struct TestMesh {
 
 // A (nx+1) x (ny+1) grid over [0, w] x [0, h], interior vertices jittered by up to 0.25 of a cell,
 // each quad split along a random diagonal; counter-clockwise faces.
+// Two triangles of the quad with corners a, b, c, d in order into rows f, f + 1 of F (f advances by
+// 2), split along a-c or, with `other_diagonal`, along b-d.
+inline void split_quad(Faces& F, int& f, int a, int b, int c, int d, bool other_diagonal) {
+  if (other_diagonal) {
+    F.row(f++) << a, b, d;
+    F.row(f++) << b, c, d;
+  } else {
+    F.row(f++) << a, b, c;
+    F.row(f++) << a, c, d;
+  }
+}
+
 inline TestMesh jittered_grid(int nx, int ny, double w = 1.0, double h = 1.0, unsigned seed = 1) {
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.25, 0.25);
@@ -35,13 +47,7 @@ inline TestMesh jittered_grid(int nx, int ny, double w = 1.0, double h = 1.0, un
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
       const int a = j * (nx + 1) + i, b = a + 1, c = a + nx + 2, d = a + nx + 1;
-      if (coin(rng)) {
-        m.F.row(f++) << a, b, c;
-        m.F.row(f++) << a, c, d;
-      } else {
-        m.F.row(f++) << a, b, d;
-        m.F.row(f++) << b, c, d;
-      }
+      split_quad(m.F, f, a, b, c, d, !coin(rng));
     }
   }
   return m;
