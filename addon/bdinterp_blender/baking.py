@@ -209,15 +209,26 @@ def _live_off(obj):
 
 
 def _weights_per_frame(obj, props, frames):
-    """The live pose weights at each frame (from their keyframes; constant ones as they are)."""
+    """The live pose weights at each frame, as Blender evaluates them: from their F-curves, or, when
+    a driver sets one, from the evaluated object at each frame (the scene's frame is restored)."""
+    import bpy
     anim = obj.animation_data
     paths = ["bdi.poses[%d].weight" % i for i in range(len(props.poses))]
-    if anim is not None and any(anim.drivers.find(p) for p in paths):
-        raise mesh_io.BakeError("%s: driven pose weights cannot be baked to keys; keyframe them"
-                                % obj.name)
-    curves = [anim.action.fcurves.find(p) if anim is not None and anim.action else None for p in paths]
-    return [tuple(c.evaluate(f) if c is not None else p.weight for c, p in zip(curves, props.poses))
-            for f in frames]
+    if anim is None or not any(anim.drivers.find(p) for p in paths):
+        curves = [anim.action.fcurves.find(p) if anim is not None and anim.action else None
+                  for p in paths]
+        return [tuple(c.evaluate(f) if c is not None else p.weight for c, p in zip(curves, props.poses))
+                for f in frames]
+    scene, out = bpy.context.scene, []
+    current = scene.frame_current
+    try:
+        for f in frames:
+            scene.frame_set(f)
+            ev = obj.evaluated_get(bpy.context.evaluated_depsgraph_get())
+            out.append(tuple(p.weight for p in ev.bdi.poses))
+    finally:
+        scene.frame_set(current)
+    return out
 
 
 def _bake_live_blend(obj, props):

@@ -149,3 +149,24 @@ def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
         scene.frame_set(frame)
         w = [1 - a - b, a, b]
         assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
+
+
+def test_bake_live_pose_blend_with_a_driven_weight(addon, bd):
+    """A weight driven by the frame (a driver, not keyframes) is baked as Blender evaluates it."""
+    from conftest import add_key
+    obj = bent_strip()
+    add_key(obj, "Long", read_key(obj, "Basis") * [1.4, 1.0, 1.0])
+    addon.set_live(obj, weights={"Bend": 0.0, "Long": 0.25})
+    scene = bpy.context.scene
+    scene.frame_start, scene.frame_end = 1, 5
+    fc = obj.driver_add("bdi.poses[0].weight")
+    fc.driver.expression = "min(frame, 4) / 8"  # 1/8 .. 1/2, constant from frame 4 on
+    result = addon.bake_live(obj)
+    assert len(result.keys) == 4  # frames 4 and 5 share their weights
+    shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long")]
+    obj.driver_remove("bdi.poses[0].weight")
+    for frame in range(1, 6):
+        scene.frame_set(frame)
+        a = min(frame, 4) / 8
+        w = [1 - a - 0.25, a, 0.25]
+        assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
