@@ -64,38 +64,26 @@ def triangles(mesh):
     return faces.reshape(-1, 3).astype(np.int64), poly.astype(np.int64)
 
 
-def fit_plane(points):
-    """(centre, unit normal) of the least-squares plane of (n, 3) points.
-
-    The add-on's only plane fit; switch to bdinterp.Plane.fit(points) here once it is public.
-    """
-    import numpy as np
-    centre = points.mean(axis=0)
-    return centre, np.linalg.svd(points - centre, full_matrices=False)[2][-1]
-
-
 def project_planar(shapes, names, rel_tol):
-    """Project every shape onto the plane fitted to shapes[0]; BakeError if one misses it by
-    more than rel_tol x size (bounding-box diagonal of shapes[0]), saying by how much.
+    """Project every shape onto the plane of shapes[0] (bdinterp.Plane, the package's one fit and
+    tolerance definition); BakeError if a key is farther from it than rel_tol x its largest extent,
+    saying by how much.
 
     Projecting here makes this (user-set) tolerance the one that counts: the core then sees
     exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
     """
     import numpy as np
-    base = shapes[0]
-    centre, normal = fit_plane(base)
-    size = float(np.linalg.norm(base.max(axis=0) - base.min(axis=0))) or 1.0
-    tol = rel_tol * size
+    from .core import load_core
+    plane = load_core().Plane.fit(shapes[0])
     bad, out = [], []
     for co, name in zip(shapes, names):
-        off = (co - centre) @ normal
-        worst = int(np.argmax(np.abs(off)))
-        if abs(off[worst]) > tol:
-            bad.append("%r is off by %.6g (vertex %d)" % (name, abs(off[worst]), worst))
-        out.append(co - off[:, None] * normal)
+        worst, off, size = plane.farthest(co)
+        if off > rel_tol * size:
+            bad.append("%r is off by %.6g (vertex %d; tolerance %g x size %.4g = %.3g)"
+                       % (name, off, worst, rel_tol, size, rel_tol * size))
+        out.append(plane.to_space(plane.to_plane(co, name, np.inf)))
     if bad:
-        raise BakeError("shape keys are not planar: %s; tolerance %.3g (%g x size %.4g)"
-                        % ("; ".join(bad), tol, rel_tol, size))
+        raise BakeError("shape keys are not planar: %s" % "; ".join(bad))
     return out
 
 

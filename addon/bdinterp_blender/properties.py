@@ -18,6 +18,8 @@ ANCHOR_ITEMS = [
     ('VERTEX', "Vertex", "This vertex's position and the orientation of its faces are blended"),
     ('GROUP', "Vertex Group", "Use the heaviest vertex of a vertex group"),
 ]
+# bdinterp.METHODS, spelt out (a test keeps them equal): the enum exists at registration, before
+# the compiled core is loaded.
 METHOD_ITEMS = [
     ('bdi', "Bounded Distortion", "Metric blending + conformal flattening (the paper)"),
     ('arap', "As-Rigid-As-Possible", "Alexa et al. 2000, for comparison"),

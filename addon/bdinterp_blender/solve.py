@@ -123,7 +123,7 @@ def _anchor_path(obj, path_obj, vertex):
 class FrameJob:
     """The frames of inp at factors ts, computed chunk by chunk (step()), so that a caller can show
     progress and cancel between chunks.  'bdi' goes through Interpolator.frames() (warm-started,
-    on all cores); 'arap'/'linear' through bdinterp.interpolate per factor."""
+    on all cores); 'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API."""
 
     def __init__(self, inp, ts, method="bdi", chunk=CHUNK):
         self.inp, self.ts, self.method, self.chunk = inp, list(ts), method, max(1, int(chunk))
@@ -143,9 +143,8 @@ class FrameJob:
             if self._solver is not None:
                 part = self._solver.frames(ts)
             else:
-                bd = core()
-                part = np.stack([bd.interpolate(inp.shapes[0], inp.shapes[1], inp.faces, t,
-                                                anchor=inp.anchor, method=self.method) for t in ts])
+                part = core().frames(inp.shapes[0], inp.shapes[1], inp.faces, ts,
+                                     anchor=inp.anchor, method=self.method)
         except ValueError as exc:  # the core names the problem (and indices); keep its words
             raise inp.explain(exc) from exc
         self._parts.append(np.asarray(part, dtype=np.float64))

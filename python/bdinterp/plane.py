@@ -43,8 +43,9 @@ class Plane:
         """(n,) unsigned distances of points (n, 3) from the plane."""
         return np.abs((np.asarray(points, dtype=np.float64) - self.origin) @ self.normal)
 
-    def _worst(self, points):
-        """(vertex farthest from the plane, its distance, the points' largest extent)."""
+    def farthest(self, points):
+        """(vertex farthest from the plane, its distance, the points' largest extent): the three
+        numbers every planarity check (tolerance x extent) and its message use."""
         off = self.distance(points)
         size = max(float(np.ptp(points, axis=0).max()), np.finfo(float).tiny)
         worst = int(np.argmax(off))
@@ -52,7 +53,7 @@ class Plane:
 
     def contains(self, points, tolerance=PLANAR_TOLERANCE):
         """True if every point (n, 3) is within tolerance x the points' largest extent of the plane."""
-        _, off, size = self._worst(np.asarray(points, dtype=np.float64))
+        _, off, size = self.farthest(np.asarray(points, dtype=np.float64))
         return off <= tolerance * size
 
     def to_plane(self, points, name, tolerance=PLANAR_TOLERANCE):
@@ -63,7 +64,7 @@ class Plane:
         """
         points = np.asarray(points, dtype=np.float64)
         if np.isfinite(tolerance):
-            worst, off, size = self._worst(points)
+            worst, off, size = self.farthest(points)
             if off > tolerance * size:
                 raise ValueError(
                     f"{name} is not planar: vertex {worst} is {off:.3g} off the plane of the "

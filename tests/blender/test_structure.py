@@ -49,3 +49,8 @@ def test_enabling_imports_neither_numpy_nor_the_core(addon):
             % os.path.join(ROOT, "examples", "blender"))
     out = json_lines(run_blender(["--python-expr", expr], env_drop=()))[0]
     assert out == {"numpy": False, "core": False, "enabled": True}
+
+
+def test_the_method_menu_is_the_packages_list_of_methods(addon, bd):
+    from bdinterp_blender import properties
+    assert [item[0] for item in properties.METHOD_ITEMS] == list(bd.METHODS)
