@@ -82,6 +82,8 @@ class BakeJob:
             names, frames = names + [end_key], frames + [inp.shapes[1]]
         if note:
             note += ", so the slider drives the copy %r instead" % end_key
+        folds = solve.input_folds(inp, self.job.solver) if self.job.solver is not None else ""
+        note = "; ".join(text for text in (folds, note) if text)
         k_out = max_distortion(inp.shapes[0], frames, inp.faces)
         k_in = max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces)
         folded = solve.folded_polygons(inp, frames)

@@ -134,6 +134,11 @@ class FrameJob:
     def finished(self):
         return self.done >= len(self.ts)
 
+    @property
+    def solver(self):
+        """The bdinterp.Interpolator of a 'bdi' job (None for the baselines)."""
+        return self._solver
+
     def step(self):
         """Compute the next chunk; returns the number of frames done so far."""
         import numpy as np
@@ -174,6 +179,20 @@ def folded_polygons(inp, results):
     for r in results:
         bad |= np.asarray(bd.area_ratio(inp.shapes[0], r, inp.faces)) <= 0.0
     return sorted(set(int(p) for p in inp.poly[bad]))
+
+
+def input_folds(inp, solver):
+    """"key 'Swing' has 4 folded polygons near vertex 312" for every input after the source with
+    triangles folded against it (Interpolator.folded_faces), joined by '; '; "" when none is."""
+    out = []
+    for i, name in enumerate(inp.names[1:], start=1):
+        tris = solver.folded_faces(i)
+        if len(tris):
+            polys = sorted(set(int(p) for p in inp.poly[tris]))
+            out.append("key %r has %d folded polygon%s near vertex %d"
+                       % (name, len(polys), "" if len(polys) == 1 else "s",
+                          int(inp.faces[tris[0], 0])))
+    return "; ".join(out)
 
 
 def pose_weights(weights):

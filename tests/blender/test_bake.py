@@ -1,5 +1,7 @@
 """Bake operator through bpy.ops on meshes made here, checked against bdinterp.interpolate."""
 
+import json
+
 import bpy
 import numpy as np
 import pytest
@@ -236,3 +238,31 @@ def test_operator_reports_distortion(addon, bd):
     assert result.max_distortion == pytest.approx(k_out, rel=1e-5)
     assert "max distortion" in result.message
     assert k_out <= k_in * (1 + 1e-6)  # the paper's bound, on real data
+
+
+def test_a_folded_target_is_reported_by_key_polygons_and_vertex(addon):
+    """A target key with folded triangles bakes, and the result names the key, how many polygons
+    fold and a vertex near them (issue #10: 'target has 4 folded faces near vertex 312')."""
+    obj = bent_strip()
+    base = read_key(obj, "Basis")
+    co = base.copy()
+    v = 25  # an interior vertex of the 17 x 5 grid; pushed across its neighbour 26
+    co[v, :2] += 1.6 * (base[26, :2] - base[v, :2])
+    add_key(obj, "Fold", co)
+    tris = triangles(obj)
+
+    def signed(X):
+        a, b = X[tris[:, 1], :2] - X[tris[:, 0], :2], X[tris[:, 2], :2] - X[tris[:, 0], :2]
+        return a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+
+    folded = signed(base) * signed(co) < 0
+    me = obj.data
+    me.calc_loop_triangles()
+    poly = np.array([lt.polygon_index for lt in me.loop_triangles])
+    polys = sorted(set(poly[folded].tolist()))
+    assert polys, "the test pose must fold"
+    result = addon.bake(obj, source="Basis", target="Fold", count=2)
+    assert "key 'Fold' has %d folded polygon" % len(polys) in result.message
+    vertex = int(result.message.split("near vertex ")[1].split(";")[0].split()[0])
+    assert any(vertex in me.polygons[p].vertices for p in polys)
+    assert "key 'Fold' has" in json.loads(obj.bdi.result)["note"]
