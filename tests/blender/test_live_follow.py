@@ -127,13 +127,29 @@ def test_file_with_live_objects_warns_on_load(addon, tmp_path, capsys):
     assert "Bake Live to Keys" in out
 
 
-def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
+def live_blend_strip(addon, long_weight, last_frame):
+    """A strip in live pose-blend mode over keys 'Bend' (weight 0) and 'Long' (a stretch), with
+    the scene's frames 1 .. last_frame."""
     from conftest import add_key
     obj = bent_strip()
     add_key(obj, "Long", read_key(obj, "Basis") * [1.4, 1.0, 1.0])
-    addon.set_live(obj, weights={"Bend": 0.0, "Long": 0.0})
+    addon.set_live(obj, weights={"Bend": 0.0, "Long": long_weight})
     scene = bpy.context.scene
-    scene.frame_start, scene.frame_end = 1, 6
+    scene.frame_start, scene.frame_end = 1, last_frame
+    return obj
+
+
+def assert_baked_blends(bd, obj, weights):
+    """At every frame f of weights {f: (w_bend, w_long)} the baked keys play bd.blend's result."""
+    shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long")]
+    for frame, (a, b) in weights.items():
+        bpy.context.scene.frame_set(frame)
+        w = [1 - a - b, a, b]
+        assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
+
+
+def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
+    obj = live_blend_strip(addon, 0.0, 6)
     poses = obj.bdi.poses
     for frame, (a, b) in {1: (0.0, 0.0), 4: (0.6, 0.3)}.items():
         poses[0].weight, poses[1].weight = a, b
@@ -144,29 +160,15 @@ def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
     result = addon.bake_live(obj)
     assert not obj.bdi.live and "bdi.live" not in key_names(obj)
     assert len(result.keys) == len(set(expected_w.values())) == 4  # frames 4-6 share their weights
-    shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long")]
-    for frame, (a, b) in expected_w.items():
-        scene.frame_set(frame)
-        w = [1 - a - b, a, b]
-        assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
+    assert_baked_blends(bd, obj, expected_w)
 
 
 def test_bake_live_pose_blend_with_a_driven_weight(addon, bd):
     """A weight driven by the frame (a driver, not keyframes) is baked as Blender evaluates it."""
-    from conftest import add_key
-    obj = bent_strip()
-    add_key(obj, "Long", read_key(obj, "Basis") * [1.4, 1.0, 1.0])
-    addon.set_live(obj, weights={"Bend": 0.0, "Long": 0.25})
-    scene = bpy.context.scene
-    scene.frame_start, scene.frame_end = 1, 5
+    obj = live_blend_strip(addon, 0.25, 5)
     fc = obj.driver_add("bdi.poses[0].weight")
     fc.driver.expression = "min(frame, 4) / 8"  # 1/8 .. 1/2, constant from frame 4 on
     result = addon.bake_live(obj)
     assert len(result.keys) == 4  # frames 4 and 5 share their weights
-    shapes = [read_key(obj, n) for n in ("Basis", "Bend", "Long")]
     obj.driver_remove("bdi.poses[0].weight")
-    for frame in range(1, 6):
-        scene.frame_set(frame)
-        a = min(frame, 4) / 8
-        w = [1 - a - 0.25, a, 0.25]
-        assert maxdiff(evaluated_co(obj), bd.blend(shapes, triangles(obj), w)) < TOL, frame
+    assert_baked_blends(bd, obj, {f: (min(f, 4) / 8, 0.25) for f in range(1, 6)})
