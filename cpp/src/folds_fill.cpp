@@ -256,7 +256,9 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
 
 FoldFill::~FoldFill() = default;
 
-void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const {
+void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* faces, int* free_vertices) const {
+  if (faces) *faces = static_cast<int>(region_.faces.size());
+  if (free_vertices) *free_vertices = static_cast<int>(region_.free_vertices.size());
   const std::lock_guard<std::mutex> lock(mutex_);
   const Plan& p = *plan_;
   const Faces& F = p.mesh.faces();

@@ -68,7 +68,8 @@ class FoldFill {
   // sum 1), every part of M' placed by its own anchor; other rows are ignored. On exit: the parts of
   // M' separated from the main part (the largest of its piece) turned by the blend of the inputs'
   // rotations, and the free vertices and those parts' translations from the Poisson solve.
-  void fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const;
+  // faces, free_vertices (optional): receive the sizes of R and of its free vertices.
+  void fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* faces = nullptr, int* free_vertices = nullptr) const;
 
  private:
   struct Plan;
