@@ -65,8 +65,8 @@ struct FoldFill::Plan {
 
   // Lifts the principal angles `ang` across the dual graph from the faces already set in theta,
   // through the faces with allow[f]: each reached face takes the branch nearest its neighbour's on
-  // the path with the least total turn (Dijkstra). Across a fold region the plain breadth-first
-  // walk went through a collapsed face and lifted a part by 2 pi (the bar at n = 24, 200 deg).
+  // the path with the least total turn (Dijkstra), so that the value does not depend on the order
+  // of a walk that may cross a collapsed face (where neighbours differ by up to pi).
   void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta) const {
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
