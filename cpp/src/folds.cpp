@@ -73,7 +73,9 @@ Faces rest_faces(const Faces& F, const std::vector<char>& in_region) {
 // differs from the base's (a loop the input winds around twice, or not at all). True if any.
 bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
                    const std::vector<std::vector<int>>& vf, std::vector<char>& in_region) {
-  const Mesh rest(rest_faces(mesh.faces(), in_region), mesh.num_vertices());
+  const Faces faces = rest_faces(mesh.faces(), in_region);
+  if (faces.rows() == 0) return false;  // nothing left: check_pieces_remain names the piece
+  const Mesh rest(faces, mesh.num_vertices());
   std::vector<Eigen::VectorXd> sums;
   for (const Positions& X : shapes) {
     sums.push_back(Eigen::VectorXd::Zero(mesh.num_vertices()));

@@ -166,3 +166,13 @@ def test_fold_free_inputs_are_solved_as_before():
     assert len(with_folds.folded_faces(1)) == 0
     np.testing.assert_array_equal(with_folds.frames(TS), bdinterp.Interpolator([V, T], F, folds=False).frames(TS))
     assert with_folds.stats.fold_faces == 0
+
+
+def test_a_piece_folded_or_shrunk_everywhere_is_refused_by_name():
+    V = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], float)
+    F = np.array([[0, 1, 2], [0, 2, 3]])
+    T = 0.5 * V  # every face shrinks to a quarter of its area ...
+    T[3] = [0.6, 0.4]  # ... and the second one folds
+    with pytest.raises(ValueError, match="piece 0 .near vertex 0. everywhere"):
+        bdinterp.Interpolator([V, T], F)
+    bdinterp.Interpolator([V, T], F, folds=False)  # the old path accepts it (and misses the key)
