@@ -38,7 +38,7 @@ std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& 
         seed[v] = 1;
   }
   for (int f = 0; f < F.rows(); ++f)
-    if (lo[f] < options.shrink * hi[f])
+    if (lo[f] < options.shrink * hi[f] || detail::blend_inflation(shapes, F, f) > options.inflation)
       for (int c = 0; c < 3; ++c) seed[F(f, c)] = 1;
   return seed;
 }

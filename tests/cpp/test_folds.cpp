@@ -148,6 +148,28 @@ TEST(FoldRegion, ARestThatWindsTwiceGrowsUntilNothingIsLeft) {
   EXPECT_TRUE(fold_region(mesh, {m.V, mild}, 0).faces.empty());
 }
 
+TEST(FoldRegion, FacesTheLengthBlendWouldInflateSeedItToo) {
+  // The grid's top rows (y >= 3) sheared by [[1, s], [0, 1]], the rest fixed: nothing folds or
+  // shrinks, but the length blend at t = 1/2 gives the sheared faces sqrt(1 + s^2 / 4) of their
+  // area: 1.80 for s = 3 (above FoldOptions::inflation = 1.6), 1.41 for s = 2 (below).
+  const testing::TestMesh m = regular_grid(6, 6);
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  for (double s : {2.0, 3.0}) {
+    const Positions sheared = testing::apply(m.V, [s](Eigen::Vector2d p) {
+      return Eigen::Vector2d(p.x() + s * std::max(0.0, p.y() - 3), p.y());
+    });
+    const FoldRegion r = fold_region(mesh, {m.V, sheared}, 0);
+    if (s == 2.0) {
+      EXPECT_TRUE(r.faces.empty());
+      continue;
+    }
+    for (int f = 0; f < m.F.rows(); ++f) {  // the faces at a vertex of a sheared face: rows 2 .. 5
+      const double y = (m.V(m.F(f, 0), 1) + m.V(m.F(f, 1), 1) + m.V(m.F(f, 2), 1)) / 3;
+      EXPECT_EQ(r.in_region[f], y > 2) << f;
+    }
+  }
+}
+
 TEST(FoldRegion, FoldFreeInputsTakeTheUsualPath) {
   const testing::TestMesh m = testing::jittered_grid(24, 6, 1.0, 0.25, 11);
   const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 2.5, 0.125); });

@@ -23,6 +23,12 @@ struct FoldOptions {
   // 0.3 the fill's K excess two rings out reached 65 % (bar, n = 48), at 0.5 the body's sheared
   // torso joined R (K 3x the inputs' there); docs/FOLDS.md.
   double shrink = 0.4;
+  // A face whose squared-length blend between two inputs at t = 1/2 would have more than
+  // `inflation` times the larger of their areas (a shear [[1, s], [0, 1]] gives sqrt(1 + s^2 / 4):
+  // 1.6 at K = 8) seeds the region too, though it does not fold: the method inflated the sheared
+  // torso of a skinned body up to 3.99 x; in R the fill keeps it within 1.95 x (docs/FOLDS.md).
+  // 1.6: at 1.7 one face went out of range (body, n = 48), at 1.5 K rose 12 % above the inputs'.
+  double inflation = 1.6;
   // An interior vertex whose unsigned angle sum in some input is off 2 pi by more than this
   // (radians) is a branch point (the faces around it wrap twice) and seeds the region too.
   double angle_tolerance = 1e-6;
@@ -43,10 +49,11 @@ struct FoldRegion {
 };
 
 // R = the faces incident to a seed vertex (a vertex of a face whose area in some input is below
-// options.shrink times that in another, or a branch point), grown until M' has no pinched vertex (a vertex whose M' faces form
+// options.shrink times that in another, or that the length blend inflates beyond
+// options.inflation, or a branch point), grown until M' has no pinched vertex (a vertex whose M' faces form
 // more than one fan) and every boundary loop of M' turns by the same total in every input as in
 // shapes[base] (otherwise the faces at that loop join R). shapes: the inputs (#V by 2 each).
-// R is empty when no input folds or shrinks a face. Throws InvalidInput when R takes a whole piece.
+// R is empty when no input folds, shrinks or shears a face that far. Throws InvalidInput when R takes a whole piece.
 FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
                        const FoldOptions& options = {});
 

@@ -2,6 +2,8 @@
 #pragma once
 
 #include <Eigen/Core>
+#include <Eigen/LU>
+#include <algorithm>
 #include <cmath>
 #include <vector>
 
@@ -34,6 +36,28 @@ inline Eigen::Matrix2d face_jacobian(const Positions& X, const Faces& F, int f, 
   G.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
   G.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
   return G * base_inverse;
+}
+
+// The area factor the squared-length blend at t = 1/2 of two inputs gives face f, relative to the
+// larger of their areas: sqrt(det((G_a + G_b) / 2)) / max |det E| for the edge matrices E and Gram
+// matrices G = E^T E of the face (independent of the base). The largest over all pairs of shapes;
+// infinite for a face collapsed in both of a pair.
+inline double blend_inflation(const std::vector<Positions>& shapes, const Faces& F, int f) {
+  std::vector<Eigen::Matrix2d> E;
+  for (const Positions& X : shapes) {
+    Eigen::Matrix2d e;
+    e.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
+    e.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
+    E.push_back(e);
+  }
+  double worst = 0;
+  for (size_t a = 0; a < E.size(); ++a)
+    for (size_t b = a + 1; b < E.size(); ++b) {
+      const double area = std::max(std::abs(E[a].determinant()), std::abs(E[b].determinant()));
+      const Eigen::Matrix2d G = 0.5 * (E[a].transpose() * E[a] + E[b].transpose() * E[b]);
+      worst = std::max(worst, std::sqrt(std::max(0.0, G.determinant())) / area);
+    }
+  return worst;
 }
 
 // The angle of the rotation nearest to J (in (-pi, pi]; for a reflection, of its rotation part).
