@@ -160,6 +160,10 @@ def measure(bd, S, T, tris, names, frames, swing_deg):
                                                                   <= 0) for X in frames[1:-1]))}
 
 
+# Until the fold formulation (issue #10 point 1, docs/FOLDS.md) lands the bake misses the key
+# (measured: 1.4 x the size off at t = 1, the forearm at 27 of 160 degrees at t = 0.95, a pop of
+# 88 x the median step); strict, so the marker must go when it passes.
+@pytest.mark.xfail(strict=True, reason="folded keys are not reproduced yet (docs/FOLDS.md)")
 @pytest.mark.parametrize("how", ["operator", "api"])
 def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
     obj, degrees = swing
