@@ -43,7 +43,8 @@ DPI = 80
 LABELS = {"affine": "affine (Fig. 4)", "bar_half_bent": "bar_half_bent (Fig. 11)",
           "conformal": "conformal (Fig. 9)", "teichmuller": "teichmuller (Sec. 4.3)",
           "spiral": "spiral (1.5 turns)", "folded": "folded (Fig. 10, invalid input)",
-          "letter_8": "letter_8 (2 holes)", "skinned_swing": "skinned_swing (armature, folds)",
+          "letter_8": "letter_8 (2 holes)", "letter_e": "letter_e (Blender text, a hole)",
+          "skinned_swing": "skinned_swing (armature, folds)",
           "body_tail": "body_tail (tail bent 300°)"}
 README_BEGIN = "<!-- gallery table: written by scripts/make_gallery.py -->"
 README_END = "<!-- end of gallery table -->"
