@@ -1,9 +1,10 @@
 """Issue #10 in Blender: a pose made the way animators make it -- a grid body with a limb four faces
-wide, Blender's own two-bone Armature, smooth vertex-group weights over the shoulder, the limb bone
-rotated about the view axis and applied as a shape key -- folds a few triangles at the joint. It
-is baked through the panel's operator and through the scripting API; the in-betweens must reach
-the key without a pop, turn the limb the pose's way in proportion to t, and flip nothing away from
-the folds (the numbers of the issue's "Tests" paragraph)."""
+wide, Blender's own two-bone Armature, automatic (bone heat) or smooth vertex-group weights over
+the shoulder, the limb bone rotated about the view axis and applied as a shape key -- folds a few
+triangles where the weights blend. It is baked through the panel's operator and through the
+scripting API; the in-betweens must reach the key without a pop, turn the limb the pose's way in
+proportion to t, and flip nothing away from the folds (the numbers of the issue's "Tests"
+paragraph)."""
 
 import json
 import math
@@ -17,7 +18,7 @@ from conftest import grid, key_names, mesh_object, read_key, triangles
 
 CELLS = 8                        # grid cells per unit
 SHOULDER = (1.0, 1.5)            # the limb bone's head: the torso's right side, the limb's middle
-BLEND = (0.85, 1.25)             # the weights ramp from torso to limb over this x range
+BLEND = (0.85, 1.25)             # the smooth weights ramp from torso to limb over this x range
 COUNT = 19                       # in-betweens 0.05 apart
 
 
@@ -38,10 +39,11 @@ def smooth_weight(x):
     return s * s * (3 - 2 * s)
 
 
-def rig_and_pose(obj, degrees):
-    """Armature 'Rig' (bones Torso, Limb), parented with empty bone groups filled with smooth
-    weights; Limb rotated by `degrees` about Z at its head; applied as the shape key 'Swing'
-    (the modifier kept, as an animator keeps the rig). Returns the Rig object."""
+def rig_and_pose(obj, degrees, weights):
+    """Armature 'Rig' (bones Torso, Limb) parented to obj with weights "automatic" (Blender's
+    bone heat) or "smooth" (empty bone groups filled with smooth_weight); Limb rotated by
+    `degrees` about Z at its head; applied as the shape key 'Swing' (the modifier kept, as an
+    animator keeps the rig)."""
     rig = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
     bpy.context.scene.collection.objects.link(rig)
     bpy.context.view_layer.objects.active = rig
@@ -55,13 +57,14 @@ def rig_and_pose(obj, degrees):
     obj.select_set(True)
     rig.select_set(True)
     bpy.context.view_layer.objects.active = rig
-    assert bpy.ops.object.parent_set(type='ARMATURE_NAME') == {'FINISHED'}
-    x = read_key_free(obj)[:, 0]
-    for v, w in enumerate(smooth_weight(x)):
-        if w < 1:
-            obj.vertex_groups["Torso"].add([v], 1.0 - float(w), 'REPLACE')
-        if w > 0:
-            obj.vertex_groups["Limb"].add([v], float(w), 'REPLACE')
+    how = 'ARMATURE_AUTO' if weights == "automatic" else 'ARMATURE_NAME'
+    assert bpy.ops.object.parent_set(type=how) == {'FINISHED'}
+    if weights == "smooth":
+        for v, w in enumerate(smooth_weight([v.co.x for v in obj.data.vertices])):
+            if w < 1:
+                obj.vertex_groups["Torso"].add([v], 1.0 - float(w), 'REPLACE')
+            if w > 0:
+                obj.vertex_groups["Limb"].add([v], float(w), 'REPLACE')
     head = Vector((*SHOULDER, 0.0))
     bone = rig.pose.bones["Limb"]
     bone.matrix = (Matrix.Translation(head) @ Matrix.Rotation(math.radians(degrees), 4, 'Z')
@@ -74,13 +77,16 @@ def rig_and_pose(obj, degrees):
                                                      modifier=modifier.name) == {'FINISHED'}
     obj.data.shape_keys.key_blocks[-1].name = "Swing"
     rig.data.pose_position = 'REST'  # the keys alone shape the mesh now
-    return rig
 
 
-def read_key_free(obj):
-    co = np.empty(len(obj.data.vertices) * 3)
-    obj.data.vertices.foreach_get("co", co)
-    return co.reshape(-1, 3)
+def bone_weights(obj):
+    """(n, 2) weights of the groups Torso and Limb (0 where a vertex is not in a group)."""
+    W = np.zeros((len(obj.data.vertices), 2))
+    column = {obj.vertex_groups["Torso"].index: 0, obj.vertex_groups["Limb"].index: 1}
+    for v in obj.data.vertices:
+        for g in v.groups:
+            W[v.index, column[g.group]] = g.weight
+    return W
 
 
 def signed_areas(X, tris):
@@ -105,27 +111,33 @@ def limb_angle(X, base):
     return math.degrees(math.atan2(d[1], d[0]))
 
 
-@pytest.fixture(params=[160, 200])
+@pytest.fixture(params=[(w, d) for w in ("smooth", "automatic") for d in (160, 200)],
+                ids=lambda p: "%s-%d" % p)
 def swing(request):
+    weights, degrees = request.param
     obj = body_grid()
-    rig_and_pose(obj, request.param)
-    return obj, request.param
+    rig_and_pose(obj, degrees, weights)
+    return obj, degrees
 
 
 def test_the_rig_makes_a_linear_blend_skinned_key_that_folds(swing):
-    """The test pose itself: Blender's armature deforms each vertex by the weighted blend of the
-    two bones' matrices (linear blend skinning), and the key folds only at the joint."""
+    """The test pose itself: Blender's armature moves each vertex by the weighted mean of the
+    two bones' matrices (linear blend skinning), and the key folds a few faces."""
     obj, degrees = swing
     S, T, tris = read_key(obj, "Basis"), read_key(obj, "Swing"), triangles(obj)
-    w = smooth_weight(S[:, 0])[:, None]
+    W = bone_weights(obj)
+    assert W.sum(axis=1).min() > 0.9
+    w = (W[:, 1] / W.sum(axis=1))[:, None]
     a = math.radians(degrees)
     R = np.array([[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]])
     lbs = SHOULDER + ((S[:, :2] - SHOULDER) @ R.T) * w + (S[:, :2] - SHOULDER) * (1 - w)
     assert np.abs(T[:, :2] - lbs).max() < 1e-5 and np.abs(T[:, 2]).max() < 1e-6
     folded = np.flatnonzero(signed_areas(T, tris) < 0)
     assert 0 < len(folded) < len(tris) // 10
-    centres = S[tris[folded]].mean(axis=1)
-    assert BLEND[0] - 0.2 < centres[:, 0].min() and centres[:, 0].max() < BLEND[1] + 0.2
+    # Only where the weights blend (a face whose vertices all follow one bone moves rigidly):
+    # around the shoulder, and with bone heat also down the torso's side next to the limb bone.
+    blends = (w[:, 0] > 1e-3) & (w[:, 0] < 1 - 1e-3)
+    assert np.all(blends[tris[folded]].any(axis=1))
 
 
 def bake_swing(addon, obj, how):
@@ -141,49 +153,63 @@ def bake_swing(addon, obj, how):
     return list(result.keys), result.message
 
 
-def measure(bd, S, T, tris, names, frames, swing_deg):
+def baked(addon, obj, how):
+    """Bake the fixture's pose; returns (source, key, triangles, frames = source, the COUNT
+    in-betweens and the key, the message naming the folds)."""
+    S, T, tris = read_key(obj, "Basis"), read_key(obj, "Swing"), triangles(obj)
+    names, message = bake_swing(addon, obj, how)
+    assert len(names) == COUNT
+    return S, T, tris, [S] + [read_key(obj, n) for n in names] + [T], message
+
+
+@pytest.mark.parametrize("how", ["operator", "api"])
+def test_skinned_pose_bake_names_the_folds_and_flips_nothing_else(addon, bd, swing, how):
+    obj, degrees = swing
+    S, T, tris, frames, message = baked(addon, obj, how)
+    # The bake names the key's folded polygons: how many, and a vertex of one of them.
+    me = obj.data
+    poly = np.array([lt.polygon_index for lt in me.loop_triangles])
+    folded = np.flatnonzero(signed_areas(T, tris) < 0)
+    polys = sorted(set(poly[folded].tolist()))
+    assert "key 'Swing' has %d folded polygons near vertex " % len(polys) in message
+    vertex = int(message.split("near vertex ")[1].split(";")[0].split()[0])
+    assert any(vertex in me.polygons[p].vertices for p in polys)
+    # No in-between flips a face outside a two-face neighbourhood of the key's folds.
+    away = ~near(tris, folded)
+    for t, X in zip(np.linspace(0, 1, COUNT + 2)[1:-1], frames[1:-1]):
+        assert np.all(bd.area_ratio(S, X, tris)[away] > 0), t
+
+
+def measure(bd, S, T, tris, frames, swing_deg):
     """The issue's numbers for baked frames (source, in-betweens, key): error at t = 1 (x size),
-    largest / median step, forearm angles (unwrapped, degrees), their largest deviation from the
-    proportional swing, and the in-betweens' flips outside two faces around the key's folds."""
+    largest / median step, forearm angles (unwrapped, degrees) and their largest deviation from
+    the proportional swing."""
     size = float(np.ptp(S, axis=0).max())
     steps = [float(np.linalg.norm(b - a, axis=1).max()) for a, b in zip(frames, frames[1:])]
     angles = np.degrees(np.unwrap(np.radians([limb_angle(X, S) for X in frames])))
     angles -= angles[0]
     ts = np.linspace(0.0, 1.0, len(frames))
-    away = ~near(tris, np.flatnonzero(signed_areas(T, tris) < 0))
     return {"error at t = 1": float(np.abs(bd.interpolate(S, T, tris, 1.0) - T).max()) / size,
             "max / median step": max(steps) / float(np.median(steps)),
             "forearm angles": np.round(angles, 1).tolist(),
             "deviation": float(np.abs(angles - ts * swing_deg).max()),
-            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0)),
-            "flips away from the folds": int(sum(np.count_nonzero(bd.area_ratio(S, X, tris)[away]
-                                                                  <= 0) for X in frames[1:-1]))}
+            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0))}
 
 
 # Until the fold formulation (issue #10 point 1, docs/FOLDS.md) lands the bake misses the key
-# (measured: 1.4 x the size off at t = 1, the forearm at 27 of 160 degrees at t = 0.95, a pop of
-# 88 x the median step); strict, so the marker must go when it passes.
+# (measured, the four poses: 1.1 .. 1.4 x the size off at t = 1, the forearm at 24 .. 46 of 160
+# degrees at t = 0.95, then a pop of 51 .. 91 x the median step); strict, so the marker must go
+# when it passes.
 @pytest.mark.xfail(strict=True, reason="folded keys are not reproduced yet (docs/FOLDS.md)")
 @pytest.mark.parametrize("how", ["operator", "api"])
 def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
     obj, degrees = swing
-    S, T, tris = read_key(obj, "Basis"), read_key(obj, "Swing"), triangles(obj)
-    names, message = bake_swing(addon, obj, how)
-    assert len(names) == COUNT
-
-    # The bake names the key's folded polygons: how many, and a vertex of one of them.
-    me = obj.data
-    poly = np.array([lt.polygon_index for lt in me.loop_triangles])
-    polys = sorted(set(poly[signed_areas(T, tris) < 0].tolist()))
-    assert "key 'Swing' has %d folded polygons near vertex " % len(polys) in message
-    vertex = int(message.split("near vertex ")[1].split(";")[0].split()[0])
-    assert any(vertex in me.polygons[p].vertices for p in polys)
-
+    S, T, tris, frames, _ = baked(addon, obj, how)
     # The pose's way is the skinned joint's: linear blend skinning blends the bone's matrix with
     # the identity, whose rotation angle runs from 0 to the bone's angle taken in (-180, 180] --
     # a bone turned by 200 degrees makes the same key as one turned by -160 (clockwise).
     swing_deg = (degrees + 180) % 360 - 180
-    m = measure(bd, S, T, tris, names, [S] + [read_key(obj, n) for n in names] + [T], swing_deg)
+    m = measure(bd, S, T, tris, frames, swing_deg)
     why = "measured: " + json.dumps(m)
     # The key is reproduced at t = 1 (the paper's Lagrange property); no pop: the last in-between
     # is as close to the key as any two frames 0.05 apart are to each other.
@@ -192,4 +218,3 @@ def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
     # The forearm turns the pose's way, monotonically and within 20 degrees of t x the swing.
     assert m["forearm angles"][-1] == pytest.approx(swing_deg, abs=0.5), why
     assert m["monotone"] and m["deviation"] <= 20, why
-    assert m["flips away from the folds"] == 0, why
