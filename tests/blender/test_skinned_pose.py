@@ -180,10 +180,24 @@ def test_skinned_pose_bake_names_the_folds_and_flips_nothing_else(addon, bd, swi
         assert np.all(bd.area_ratio(S, X, tris)[away] > 0), t
 
 
+def away_bounds(bd, S, T, tris, frames):
+    """Over the in-betweens, outside two faces around the key's folds: the largest K over the
+    inputs' K of the face (the source's is 1), and the smallest and largest area over the
+    face's smaller and larger input area."""
+    away = ~near(tris, np.flatnonzero(signed_areas(T, tris) < 0))
+    k_in = np.maximum(bd.conformal_distortion(S, T, tris), 1.0)[away]
+    a_s, a_t = np.abs(signed_areas(S, tris))[away], np.abs(signed_areas(T, tris))[away]
+    k = [np.max(bd.conformal_distortion(S, X, tris)[away] / k_in) for X in frames[1:-1]]
+    a = [signed_areas(X, tris)[away] for X in frames[1:-1]]
+    return {"K / input K": float(max(k)),
+            "area / smaller input area": float(min(np.min(x / np.minimum(a_s, a_t)) for x in a)),
+            "area / larger input area": float(max(np.max(x / np.maximum(a_s, a_t)) for x in a))}
+
+
 def measure(bd, S, T, tris, frames, swing_deg):
     """The issue's numbers for baked frames (source, in-betweens, key): error at t = 1 (x size),
-    largest / median step, forearm angles (unwrapped, degrees) and their largest deviation from
-    the proportional swing."""
+    largest / median step, forearm angles (unwrapped, degrees), their largest deviation from
+    the proportional swing, and away_bounds."""
     size = float(np.ptp(S, axis=0).max())
     steps = [float(np.linalg.norm(b - a, axis=1).max()) for a, b in zip(frames, frames[1:])]
     angles = np.degrees(np.unwrap(np.radians([limb_angle(X, S) for X in frames])))
@@ -193,13 +207,14 @@ def measure(bd, S, T, tris, frames, swing_deg):
             "max / median step": max(steps) / float(np.median(steps)),
             "forearm angles": np.round(angles, 1).tolist(),
             "deviation": float(np.abs(angles - ts * swing_deg).max()),
-            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0))}
+            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0)),
+            **away_bounds(bd, S, T, tris, frames)}
 
 
 # Until the fold formulation (issue #10 point 1, docs/FOLDS.md) lands the bake misses the key
 # (measured, the four poses: 1.1 .. 1.4 x the size off at t = 1, the forearm at 24 .. 46 of 160
-# degrees at t = 0.95, then a pop of 51 .. 91 x the median step); strict, so the marker must go
-# when it passes.
+# degrees at t = 0.95, then a pop of 51 .. 91 x the median step; away from the folds K up to 1.05 x
+# the inputs', areas up to 2.4 x); strict, so the marker must go when it passes.
 @pytest.mark.xfail(strict=True, reason="folded keys are not reproduced yet (docs/FOLDS.md)")
 @pytest.mark.parametrize("how", ["operator", "api"])
 def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
@@ -218,3 +233,8 @@ def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
     # The forearm turns the pose's way, monotonically and within 20 degrees of t x the swing.
     assert m["forearm angles"][-1] == pytest.approx(swing_deg, abs=0.5), why
     assert m["monotone"] and m["deviation"] <= 20, why
+    # Away from the folds the frames are those of a valid pair: K within the inputs' per face (up
+    # to the 1 % discretisation allowance of the other bakes) and no face shrinking to half its
+    # smaller input area or growing to twice its larger one.
+    assert m["K / input K"] <= 1.01, why
+    assert m["area / smaller input area"] >= 0.5 and m["area / larger input area"] <= 2, why
