@@ -24,16 +24,11 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.join(HERE, "..", "..")
 
 
-def _load(name, path):
-    # By file path: Blender's Python cannot import the bdinterp package (its compiled core is
-    # built for the system Python).
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-io = _load("io", os.path.join(ROOT, "python", "bdinterp", "io.py"))
+# bdinterp/io.py by file path: Blender's Python cannot import the bdinterp package (its compiled
+# core is built for the system Python); io.py needs numpy only.
+_spec = importlib.util.spec_from_file_location("io", os.path.join(ROOT, "python", "bdinterp", "io.py"))
+io = importlib.util.module_from_spec(_spec)
+_spec.loader.exec_module(io)
 
 
 def glyph(char="e"):
