@@ -26,7 +26,8 @@ ROOT = os.path.join(HERE, "..", "..")
 
 # bdinterp/io.py by file path: Blender's Python cannot import the bdinterp package (its compiled
 # core is built for the system Python); io.py needs numpy only.
-_spec = importlib.util.spec_from_file_location("io", os.path.join(ROOT, "python", "bdinterp", "io.py"))
+_spec = importlib.util.spec_from_file_location(
+    "io", os.path.join(ROOT, "python", "bdinterp", "io.py"))
 io = importlib.util.module_from_spec(_spec)
 _spec.loader.exec_module(io)
 
