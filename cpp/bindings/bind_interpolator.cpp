@@ -29,6 +29,9 @@ void bind_options(py::module_& m) {
                      "self-check: the largest layout residual a returned frame may have")
       .def_readwrite("strict", &InterpolatorOptions::strict,
                      "raise SolverError for a frame that fails the self-check (else: flagged in stats)")
+      .def_readwrite("folds", &InterpolatorOptions::folds,
+                     "folded inputs: cut out and fill their fold region (docs/FOLDS.md); False: the "
+                     "paper's method on the whole mesh")
       .def_property_readonly_static(
           "MAX_THREADS", [](py::object) { return InterpolatorOptions::kMaxThreads; });
   flatten_field(cls, "tolerance", &FlattenOptions::tolerance,

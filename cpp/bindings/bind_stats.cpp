@@ -45,6 +45,10 @@ void bind_stats(py::module_& m) {
         "why not, naming the first failing frame; empty when converged");
   field(cls, *names, "hole_closure", &FrameStats::hole_closure,
         "per hole: the translation period of the flat metric around it / the hole's perimeter");
+  field(cls, *names, "fold_faces", &FrameStats::fold_faces,
+        "faces of the fold region (folded inputs, docs/FOLDS.md); 0 when no input folds");
+  field(cls, *names, "fold_free_vertices", &FrameStats::fold_free_vertices,
+        "vertices filled in by the fold region's Poisson solve");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {

@@ -8,6 +8,7 @@
 #include <sstream>
 #include <thread>
 
+#include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
 #include "bdinterp/holes.h"
 #include "bdinterp/layout.h"
@@ -31,10 +32,20 @@ void merge(FrameStats& into, const FrameStats& s) {
   into.flatness = std::max(into.flatness, s.flatness);
   into.pieces = s.pieces;
   into.converged = into.converged && s.converged;
+  into.fold_faces = std::max(into.fold_faces, s.fold_faces);
+  into.fold_free_vertices = std::max(into.fold_free_vertices, s.fold_free_vertices);
   if (into.warnings.empty()) into.warnings = s.warnings;
   into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
   for (size_t k = 0; k < s.hole_closure.size(); ++k)
     into.hole_closure[k] = std::max(into.hole_closure[k], s.hole_closure[k]);
+}
+
+// The rows of `shapes` of the piece's vertices, in its local order.
+std::vector<Positions> local_positions(const std::vector<Positions>& shapes, const Piece& p) {
+  std::vector<Positions> local(shapes.size(), Positions(p.vertices.size(), 2));
+  for (size_t i = 0; i < shapes.size(); ++i)
+    for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = shapes[i].row(p.vertices[k]);
+  return local;
 }
 
 }  // namespace
@@ -144,21 +155,32 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   validate_anchor(anchor, mesh, num_shapes());
   const std::vector<Positions> unit = normalise(shapes, mesh);
   anchor_.path.position /= scale_;  // only differences of path positions matter (see blend_frames)
+  folded_ = check_not_mirrored(mesh, unit, options.base);
+  // An input folds: the method solves the rest of the mesh, the fold region is filled (folds.h).
+  std::unique_ptr<const Mesh> cut;
+  if (options.folds && std::any_of(folded_.begin(), folded_.end(), [](const std::vector<int>& f) { return !f.empty(); })) {
+    int index = 0;  // the inputs' orientation on the whole pieces, named as without folds
+    for (const Piece& p : split_into_pieces(mesh)) {
+      const std::vector<Positions> local = local_positions(unit, p);
+      for (size_t i = 0; i < local.size(); ++i) check_orientation(local[i], p, static_cast<int>(i), index);
+      ++index;
+    }
+    folds_ = std::make_unique<const FoldFill>(mesh, unit, options.base, fold_region(mesh, unit, options.base));
+    cut = std::make_unique<const Mesh>(folds_->region().rest, num_vertices_);
+  }
+  const Mesh& solved = cut ? *cut : mesh;
   for (int v = 0; v < num_vertices_; ++v)
-    if (mesh.is_isolated_vertex(v)) isolated_.push_back(v);
+    if (solved.is_isolated_vertex(v)) isolated_.push_back(v);
   for (const Positions& X : unit) {
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
-  folded_ = check_not_mirrored(mesh, unit, options.base);
   workers_.resize(1);
   const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
-  for (Piece& p : split_into_pieces(mesh)) {
-    std::vector<Positions> local(unit.size(), Positions(p.vertices.size(), 2));
-    for (size_t i = 0; i < unit.size(); ++i) {
-      for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = unit[i].row(p.vertices[k]);
+  for (Piece& p : split_into_pieces(solved)) {
+    const std::vector<Positions> local = local_positions(unit, p);
+    for (size_t i = 0; i < unit.size(); ++i)
       check_orientation(local[i], p, static_cast<int>(i), static_cast<int>(plans_.size()));
-    }
     const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
     plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av, still));
@@ -213,6 +235,11 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
   for (size_t k = 0; k < isolated_.size(); ++k) {
     out.row(isolated_[k]).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
+  }
+  if (folds_) {
+    folds_->fill(w, out);
+    st.fold_faces = static_cast<int>(folds_->region().faces.size());
+    st.fold_free_vertices = static_cast<int>(folds_->region().free_vertices.size());
   }
   // Back to the caller's coordinates, checking that every position is finite on the way.
   bool finite = true;

@@ -12,6 +12,8 @@
 
 namespace bdinterp {
 
+class FoldFill;
+
 struct InterpolatorOptions {
   FlattenOptions flatten;
   int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
@@ -25,6 +27,10 @@ struct InterpolatorOptions {
   // with `strict` it raises SolverError instead of being returned.
   double max_flatness = 1e-6;
   bool strict = false;
+  // Inputs with folded faces (orientation.h): the method solves the mesh without their fold region,
+  // which is filled in (folds.h, docs/FOLDS.md), so the folded keys are reached. false: the paper's
+  // method on the whole mesh (the keys' folded metric is flattened too, so folded keys are missed).
+  bool folds = true;
   static constexpr int kMaxThreads = 1024;
 };
 
@@ -39,6 +45,9 @@ struct FrameStats : FlattenReport {
   // Per hole (inner boundary loop, pieces in order): the translation period of the flat metric
   // around it relative to the loop's length, which the layout spreads (see holes.h); 0 at inputs.
   std::vector<double> hole_closure;
+  // Folded inputs (folds.h): the faces of the fold region and its free vertices (0 when no input folds).
+  int fold_faces = 0;
+  int fold_free_vertices = 0;
 };
 
 // No hidden state: a frame depends on its weights, not on the calls before it, up to the effect of
@@ -116,6 +125,7 @@ class Interpolator {
   std::vector<std::vector<std::unique_ptr<Workspace>>> workers_;
   std::vector<int> isolated_;
   std::vector<std::vector<int>> folded_;  // per shape: folded_faces
+  std::unique_ptr<const FoldFill> folds_;  // set when an input folds: the fill of its fold region
   std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
   mutable std::mutex mutex_;

@@ -1,0 +1,70 @@
+// Folded inputs (issue #10, point 1; reasoning and measurements in docs/FOLDS.md): cut, interpolate,
+// fill. The faces an input folds or collapses, with their neighbours (the fold region R), are taken
+// out; the rest M' is fold-free and flat in every input, so the method interpolates it as usual
+// (exact at the inputs). R is then filled by one Poisson solve whose target gradients are the
+// inputs' Jacobians with their rotations replaced by the in-between's (a harmonic field over R), and
+// parts of M' that R separates from the main part are turned by the blend of the inputs' rotations
+// and placed by that same solve. At an input's weights every step returns the input exactly.
+#pragma once
+
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "bdinterp/mesh.h"
+
+namespace bdinterp {
+
+struct FoldOptions {
+  // A face whose signed area in some input is below `shrink` times its base area joins the region's
+  // seed (folded faces have ratio < 0). 0.5: the skinned joints of tests/python/test_folds.py leave
+  // M' connected through faces shrunk to 0.1 .. 0.5 otherwise, and the length blend of those makes
+  // the limb lag (46 deg behind the proportional swing at t = 0.5, a pop at the end; docs/FOLDS.md).
+  double shrink = 0.5;
+  // An interior vertex whose unsigned angle sum in some input is off 2 pi by more than this
+  // (radians) is a branch point (the faces around it wrap twice) and seeds the region too.
+  double angle_tolerance = 1e-6;
+};
+
+// The fold region of a set of inputs.
+struct FoldRegion {
+  std::vector<char> in_region;     // #F: 1 for the faces of R
+  std::vector<int> faces;          // the faces of R, ascending
+  std::vector<int> free_vertices;  // ascending: vertices all of whose faces are in R
+  Faces rest;                      // the faces of M' = F \ R (rows of F in ascending order)
+  int grown = 0;                   // faces added so that M' has no pinch and its loops turn as in the base
+};
+
+// R = the faces incident to a seed vertex (a vertex of a face shrunk below options.shrink in some
+// input, or a branch point), grown until M' has no pinched vertex (a vertex whose M' faces form
+// more than one fan) and every boundary loop of M' turns by the same total in every input as in
+// shapes[base] (otherwise the faces at that loop join R). shapes: the inputs (#V by 2 each).
+// R is empty when no input folds or shrinks a face. Throws InvalidInput when R takes a whole piece.
+FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
+                       const FoldOptions& options = {});
+
+// The fill of a fold region, planned once (read-only afterwards; fill() may be called from any
+// thread, the solves are serialised by a mutex of its own).
+class FoldFill {
+ public:
+  // mesh: the whole mesh; shapes: the inputs (#V by 2, the coordinates fill() works in); region from
+  // fold_region(mesh, shapes, base). Factorises the two constant systems (harmonic rotations over
+  // R's dual graph; the Poisson system of R's free vertices and the separated parts' translations).
+  FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region);
+  ~FoldFill();
+
+  const FoldRegion& region() const { return region_; }
+  // X (#V by 2): on entry the rows of M's vertices hold the method's frame of M' at weights w (#k,
+  // sum 1), every part of M' placed by its own anchor; other rows are ignored. On exit: the parts of
+  // M' separated from the main part (the largest of its piece) turned by the blend of the inputs'
+  // rotations, and the free vertices and those parts' translations from the Poisson solve.
+  void fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const;
+
+ private:
+  struct Plan;
+  FoldRegion region_;
+  std::unique_ptr<Plan> plan_;
+  mutable std::mutex mutex_;
+};
+
+}  // namespace bdinterp

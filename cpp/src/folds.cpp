@@ -1,0 +1,149 @@
+// The fold region (folds.h): seeds, growth until the rest is a manifold whose loops turn as in the
+// base. Reasoning and measurements: docs/FOLDS.md.
+#include "bdinterp/folds.h"
+
+#include <algorithm>
+#include <numeric>
+#include <sstream>
+
+#include "bdinterp/geometry.h"
+#include "detail/folds.h"
+
+namespace bdinterp {
+namespace {
+using detail::corner_angle;
+
+// Seed vertices: those of faces shrunk below options.shrink of their base area (folded faces
+// included) in some input, and interior vertices whose unsigned angle sum is off 2 pi.
+std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
+                                const FoldOptions& options) {
+  const Faces& F = mesh.faces();
+  std::vector<char> seed(mesh.num_vertices(), 0);
+  for (const Positions& X : shapes) {
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(mesh.num_vertices());
+    for (int f = 0; f < F.rows(); ++f) {
+      // Base faces are never collapsed (validated), so the ratio is finite; < 0 when folded.
+      if (doubled_area(X, F, f) / doubled_area(shapes[base], F, f) < options.shrink)
+        for (int c = 0; c < 3; ++c) seed[F(f, c)] = 1;
+      for (int c = 0; c < 3; ++c) sum[F(f, c)] += corner_angle(X, F, f, c);
+    }
+    for (int v = 0; v < mesh.num_vertices(); ++v)
+      if (!mesh.is_boundary_vertex(v) && !mesh.is_isolated_vertex(v) &&
+          std::abs(sum[v] - 2 * kPi) > options.angle_tolerance)
+        seed[v] = 1;
+  }
+  return seed;
+}
+
+// v's faces outside R form more than one fan (joined across the edges at v).
+bool pinched(const Mesh& mesh, const std::vector<int>& faces_of_v, const std::vector<char>& in_region, int v) {
+  std::vector<int> rest;
+  for (int f : faces_of_v)
+    if (!in_region[f]) rest.push_back(f);
+  if (rest.size() < 2) return false;
+  std::vector<int> parent(rest.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int a) {
+    while (parent[a] != a) a = parent[a] = parent[parent[a]];
+    return a;
+  };
+  const Faces& F = mesh.faces();
+  for (size_t a = 0; a < rest.size(); ++a) {
+    const int f = rest[a];
+    const int c = F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2);
+    for (int k = 1; k <= 2; ++k) {  // the two edges of f at v are opposite its other corners
+      const int g = mesh.opposite_face(mesh.face_edges()(f, (c + k) % 3), f);
+      for (size_t b = 0; b < rest.size(); ++b)
+        if (rest[b] == g) parent[find(static_cast<int>(a))] = find(static_cast<int>(b));
+    }
+  }
+  int roots = 0;
+  for (size_t a = 0; a < rest.size(); ++a) roots += find(static_cast<int>(a)) == static_cast<int>(a);
+  return roots > 1;
+}
+
+Faces rest_faces(const Faces& F, const std::vector<char>& in_region) {
+  Faces rest(F.rows() - std::count(in_region.begin(), in_region.end(), 1), 3);
+  for (int f = 0, r = 0; f < F.rows(); ++f)
+    if (!in_region[f]) rest.row(r++) = F.row(f);
+  return rest;
+}
+
+// Adds to R the faces of the vertices of every boundary loop of M' whose total turning in some input
+// differs from the base's (a loop the input winds around twice, or not at all). True if any.
+bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
+                   const std::vector<std::vector<int>>& vf, std::vector<char>& in_region) {
+  const Mesh rest(rest_faces(mesh.faces(), in_region), mesh.num_vertices());
+  std::vector<Eigen::VectorXd> sums;
+  for (const Positions& X : shapes) {
+    sums.push_back(Eigen::VectorXd::Zero(mesh.num_vertices()));
+    for (int f = 0; f < rest.num_faces(); ++f)
+      for (int c = 0; c < 3; ++c) sums.back()[rest.faces()(f, c)] += corner_angle(X, rest.faces(), f, c);
+  }
+  bool grown = false;
+  for (const std::vector<int>& loop : rest.boundary_loops()) {
+    auto turning = [&](size_t i) {
+      double t = 0;
+      for (int v : loop) t += kPi - sums[i][v];
+      return t;
+    };
+    bool same = true;
+    for (size_t i = 0; i < shapes.size(); ++i) same = same && std::abs(turning(i) - turning(base)) < kPi;
+    if (same) continue;
+    for (int v : loop)
+      for (int f : vf[v]) in_region[f] = 1;
+    grown = true;
+  }
+  return grown;
+}
+
+void check_pieces_remain(const Mesh& mesh, const std::vector<char>& in_region) {
+  std::vector<int> left(mesh.num_pieces(), 0);
+  for (int f = 0; f < mesh.num_faces(); ++f) left[mesh.piece_of_face(f)] += !in_region[f];
+  for (int p = 0; p < mesh.num_pieces(); ++p) {
+    if (left[p] > 0) continue;
+    int v = -1;
+    for (int f = 0; f < mesh.num_faces() && v < 0; ++f)
+      if (mesh.piece_of_face(f) == p) v = mesh.faces()(f, 0);
+    std::ostringstream s;
+    s << "the inputs fold or shrink (below half the base area) the faces of piece " << p
+      << " (near vertex " << v << ") everywhere: no fold-free part is left to interpolate";
+    throw InvalidInput(s.str());
+  }
+}
+
+}  // namespace
+
+FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, const FoldOptions& options) {
+  const Faces& F = mesh.faces();
+  const std::vector<std::vector<int>> vf = detail::vertex_faces(F, mesh.num_vertices());
+  const std::vector<char> seed = seed_vertices(mesh, shapes, base, options);
+  FoldRegion r;
+  r.in_region.assign(F.rows(), 0);
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (seed[v])
+      for (int f : vf[v]) r.in_region[f] = 1;
+  const long seeded = std::count(r.in_region.begin(), r.in_region.end(), 1);
+  for (bool changed = seeded > 0; changed;) {
+    changed = false;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (!pinched(mesh, vf[v], r.in_region, v)) continue;
+      for (int f : vf[v]) r.in_region[f] = 1;
+      changed = true;
+    }
+    if (!changed) changed = grow_at_loops(mesh, shapes, base, vf, r.in_region);
+  }
+  check_pieces_remain(mesh, r.in_region);
+  for (int f = 0; f < F.rows(); ++f)
+    if (r.in_region[f]) r.faces.push_back(f);
+  r.grown = static_cast<int>(r.faces.size() - seeded);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    bool all = !vf[v].empty();
+    for (int f : vf[v]) all = all && r.in_region[f];
+    if (all) r.free_vertices.push_back(v);
+  }
+  r.rest = rest_faces(F, r.in_region);
+  return r;
+}
+
+}  // namespace bdinterp

@@ -1,0 +1,280 @@
+// The fill of a fold region (folds.h): rotations lifted across the dual graph and extended
+// harmonically over R, separated parts turned by the blend of the inputs' rotations, one Poisson
+// solve for R's free vertices and those parts' translations. Reasoning: docs/FOLDS.md.
+#include <Eigen/LU>
+#include <Eigen/SparseCore>
+#include <array>
+#include <deque>
+#include <limits>
+
+#include "bdinterp/folds.h"
+#include "bdinterp/geometry.h"
+#include "bdinterp/sparse_cholesky.h"
+#include "detail/folds.h"
+
+namespace bdinterp {
+namespace {
+using detail::face_jacobian;
+using detail::polar_angle;
+using detail::wrap_angle;
+constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
+
+// The symmetric positive definite matrix of the triplets (any triangle), factorised.
+std::unique_ptr<SparseCholesky> factorised(int n, const std::vector<Eigen::Triplet<double>>& entries) {
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(entries.begin(), entries.end());
+  Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
+  lower.makeCompressed();
+  const std::vector<int> col(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
+  const std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
+  auto chol = std::make_unique<SparseCholesky>(n, col, rows);
+  std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol->values());
+  chol->factorize();
+  return chol;
+}
+
+Eigen::Matrix2d rotation(double a) {
+  Eigen::Matrix2d R;
+  R << std::cos(a), -std::sin(a), std::sin(a), std::cos(a);
+  return R;
+}
+
+}  // namespace
+
+struct FoldFill::Plan {
+  Mesh mesh;
+  std::vector<Eigen::Matrix2d> base_inverse;  // #F: inverse of the base's edge matrix
+  std::vector<double> area;                   // #F: base area
+  std::vector<int> part;                      // #F: part (component) of M', -1 in R
+  std::vector<int> part_of_vertex;            // #V: part of an M' vertex, else -1
+  std::vector<int> ref;                       // per part: its first face
+  std::vector<char> main;                     // per part: the largest part of its piece
+  std::vector<int> r_index;                   // #F: index among R's faces, else -1
+  std::vector<Eigen::VectorXd> theta;         // per input: its rotation field (#F)
+  std::vector<std::vector<Eigen::Matrix2d>> J;  // per input, per R face: its Jacobian
+  std::vector<int> var;                       // #V: Poisson unknown, -1 for fixed vertices
+  int num_free = 0;
+  std::vector<int> part_var;                  // per part: its translation's unknown, -1 for main parts
+  std::unique_ptr<SparseCholesky> harmonic, poisson;
+
+  explicit Plan(const Mesh& m) : mesh(m) {}
+
+  // Lifts the principal angles `ang` across the dual graph from the faces already set in theta,
+  // through the faces with allow[f]: each reached face takes the branch nearest its parent's.
+  void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta) const {
+    std::deque<int> queue;
+    for (int f = 0; f < theta.size(); ++f)
+      if (!std::isnan(theta[f])) queue.push_back(f);
+    while (!queue.empty()) {
+      const int f = queue.front();
+      queue.pop_front();
+      for (int c = 0; c < 3; ++c) {
+        const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
+        if (g < 0 || !allow[g] || !std::isnan(theta[g])) continue;
+        theta[g] = theta[f] + wrap_angle(ang[g] - theta[f]);
+        queue.push_back(g);
+      }
+    }
+  }
+
+  // The harmonic extension over R's dual graph of `values` on M' (#F; R rows ignored) into R's rows.
+  void extend(Eigen::VectorXd& values) const {
+    const int n = static_cast<int>(harmonic->size());
+    Eigen::VectorXd b = Eigen::VectorXd::Zero(n), x(n);
+    for (int f = 0; f < values.size(); ++f) {
+      if (r_index[f] < 0) continue;
+      for (int c = 0; c < 3; ++c) {
+        const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
+        if (g >= 0 && r_index[g] < 0) b[r_index[f]] += values[g];
+      }
+    }
+    harmonic->solve(b.data(), x.data());
+    for (int f = 0; f < values.size(); ++f)
+      if (r_index[f] >= 0) values[f] = x[r_index[f]];
+  }
+
+  std::array<Eigen::Vector2d, 3> gradients(int f) const {  // of the three hat functions, in the base
+    const Eigen::Vector2d b1 = base_inverse[f].row(0).transpose(), b2 = base_inverse[f].row(1).transpose();
+    return {-b1 - b2, b1, b2};
+  }
+
+  void find_parts(const std::vector<char>& in_region);
+  void plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces);
+  void plan_systems(const FoldRegion& region);
+};
+
+void FoldFill::Plan::find_parts(const std::vector<char>& in_region) {
+  const int nf = mesh.num_faces();
+  part.assign(nf, -1);
+  part_of_vertex.assign(mesh.num_vertices(), -1);
+  std::vector<double> part_area;
+  for (int f0 = 0; f0 < nf; ++f0) {
+    if (in_region[f0] || part[f0] >= 0) continue;
+    const int p = static_cast<int>(ref.size());
+    ref.push_back(f0);
+    part_area.push_back(0);
+    std::deque<int> queue{f0};
+    part[f0] = p;
+    while (!queue.empty()) {
+      const int f = queue.front();
+      queue.pop_front();
+      part_area[p] += area[f];
+      for (int c = 0; c < 3; ++c) {
+        part_of_vertex[mesh.faces()(f, c)] = p;
+        const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
+        if (g >= 0 && !in_region[g] && part[g] < 0) part[g] = p, queue.push_back(g);
+      }
+    }
+  }
+  std::vector<int> largest(mesh.num_pieces(), -1);  // per piece of the mesh: its largest part
+  for (size_t p = 0; p < ref.size(); ++p) {
+    int& l = largest[mesh.piece_of_face(ref[p])];
+    if (l < 0 || part_area[p] > part_area[l]) l = static_cast<int>(p);
+  }
+  main.assign(ref.size(), 0);
+  for (int l : largest)
+    if (l >= 0) main[l] = 1;
+}
+
+void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces) {
+  const int nf = mesh.num_faces();
+  const std::vector<char> all(nf, 1);
+  for (const Positions& X : shapes) {
+    Eigen::VectorXd ang(nf), th = Eigen::VectorXd::Constant(nf, kUnset);
+    std::vector<char> unfolded(nf);
+    for (int f = 0; f < nf; ++f) {
+      ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
+      unfolded[f] = doubled_area(X, mesh.faces(), f) * base_inverse[f].determinant() > 0;
+    }
+    for (size_t p = 0; p < ref.size(); ++p)
+      if (main[p]) th[ref[p]] = ang[ref[p]];
+    lift(ang, unfolded, th);  // through the faces this input does not fold, then through the rest
+    lift(ang, all, th);
+    // Over R: the harmonic extension of M's field, moved to the face's own rotation where it does
+    // not fold (the branch nearest the extension).
+    Eigen::VectorXd h = th;
+    extend(h);
+    for (int f : region_faces) th[f] = unfolded[f] ? h[f] + wrap_angle(ang[f] - h[f]) : h[f];
+    theta.push_back(th);
+    J.emplace_back();
+    for (int f : region_faces) J.back().push_back(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
+  }
+}
+
+void FoldFill::Plan::plan_systems(const FoldRegion& region) {
+  const int nf = mesh.num_faces();
+  r_index.assign(nf, -1);
+  for (size_t k = 0; k < region.faces.size(); ++k) r_index[region.faces[k]] = static_cast<int>(k);
+  std::vector<Eigen::Triplet<double>> h;
+  for (int f : region.faces) {
+    for (int c = 0; c < 3; ++c) {
+      const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
+      if (g < 0) continue;
+      h.emplace_back(r_index[f], r_index[f], 1.0);
+      if (r_index[g] >= 0) h.emplace_back(r_index[f], r_index[g], -1.0);
+    }
+  }
+  harmonic = factorised(static_cast<int>(region.faces.size()), h);
+  var.assign(mesh.num_vertices(), -1);
+  for (int v : region.free_vertices) var[v] = num_free++;
+  part_var.assign(ref.size(), -1);
+  int n = num_free;
+  for (size_t p = 0; p < ref.size(); ++p)
+    if (!main[p]) part_var[p] = n++;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (part_of_vertex[v] >= 0) var[v] = part_var[part_of_vertex[v]];
+  std::vector<Eigen::Triplet<double>> L;
+  for (int f : region.faces) {
+    const auto B = gradients(f);
+    for (int a = 0; a < 3; ++a)
+      for (int b = 0; b < 3; ++b) {
+        const int va = var[mesh.faces()(f, a)], vb = var[mesh.faces()(f, b)];
+        if (va >= 0 && vb >= 0) L.emplace_back(va, vb, area[f] * B[a].dot(B[b]));
+      }
+  }
+  if (n > 0) poisson = factorised(n, L);
+}
+
+FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region)
+    : region_(std::move(region)), plan_(std::make_unique<Plan>(mesh)) {
+  Plan& p = *plan_;
+  const Faces& F = mesh.faces();
+  for (int f = 0; f < F.rows(); ++f) {
+    Eigen::Matrix2d E;
+    E.col(0) = (shapes[base].row(F(f, 1)) - shapes[base].row(F(f, 0))).transpose();
+    E.col(1) = (shapes[base].row(F(f, 2)) - shapes[base].row(F(f, 0))).transpose();
+    p.base_inverse.push_back(E.inverse());
+    p.area.push_back(0.5 * std::abs(E.determinant()));
+  }
+  p.find_parts(region_.in_region);
+  p.plan_systems(region_);
+  p.plan_rotations(shapes, region_.faces);
+}
+
+FoldFill::~FoldFill() = default;
+
+void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const Plan& p = *plan_;
+  const Faces& F = p.mesh.faces();
+  const int nf = p.mesh.num_faces();
+  Eigen::VectorXd blend = Eigen::VectorXd::Zero(nf), ang(nf), th = Eigen::VectorXd::Constant(nf, kUnset);
+  for (size_t i = 0; i < p.theta.size(); ++i) blend += w[static_cast<Eigen::Index>(i)] * p.theta[i];
+  for (int f = 0; f < nf; ++f)
+    if (p.part[f] >= 0) ang[f] = polar_angle(face_jacobian(X, F, f, p.base_inverse[f]));
+  for (size_t q = 0; q < p.ref.size(); ++q) {
+    // The frame's rotations on part q, from the branch nearest the inputs' blend at its first face.
+    const int r = p.ref[q];
+    th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
+    std::vector<char> in_part(nf);
+    for (int f = 0; f < nf; ++f) in_part[f] = p.part[f] == static_cast<int>(q);
+    p.lift(ang, in_part, th);
+    if (p.main[q]) continue;
+    // A separated part turns by the inputs' blend (its mean rotation), about its vertices' mean.
+    double turn = 0, total = 0;
+    for (int f = 0; f < nf; ++f)
+      if (in_part[f]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
+    turn /= total;
+    Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
+    int count = 0;
+    for (int v = 0; v < X.rows(); ++v)
+      if (p.part_of_vertex[v] == static_cast<int>(q)) centre += X.row(v), ++count;
+    centre /= count;
+    const Eigen::Matrix2d R = rotation(turn);
+    for (int v = 0; v < X.rows(); ++v)
+      if (p.part_of_vertex[v] == static_cast<int>(q)) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
+    for (int f = 0; f < nf; ++f)
+      if (in_part[f]) th[f] += turn;
+  }
+  // The in-between's rotations over R: the inputs' blend plus the harmonic extension of the
+  // frame's difference from it (0 at an input's weights, so the input's own Jacobians come back).
+  Eigen::VectorXd delta = th - blend;
+  p.extend(delta);
+  const int n = p.poisson ? p.poisson->size() : 0;
+  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(n, 2);
+  for (size_t k = 0; k < region_.faces.size(); ++k) {
+    const int f = region_.faces[k];
+    Eigen::Matrix2d G = Eigen::Matrix2d::Zero();
+    for (size_t i = 0; i < p.theta.size(); ++i)
+      G += w[static_cast<Eigen::Index>(i)] * rotation(blend[f] + delta[f] - p.theta[i][f]) * p.J[i][k];
+    const auto B = p.gradients(f);
+    for (int a = 0; a < 3; ++a) {
+      const int va = p.var[F(f, a)];
+      if (va < 0) continue;
+      Eigen::Vector2d rhs = p.area[f] * G * B[a];
+      for (int c = 0; c < 3; ++c)  // the known positions move to the right-hand side
+        if (p.part_of_vertex[F(f, c)] >= 0) rhs -= p.area[f] * B[a].dot(B[c]) * X.row(F(f, c)).transpose();
+      b.row(va) += rhs.transpose();
+    }
+  }
+  if (n == 0) return;
+  Eigen::MatrixXd z(n, 2);
+  p.poisson->solve(b.data(), z.data(), 2);
+  for (int v = 0; v < X.rows(); ++v) {
+    if (p.var[v] < 0) continue;
+    if (p.part_of_vertex[v] < 0) X.row(v) = z.row(p.var[v]);
+    else X.row(v) += z.row(p.var[v]);
+  }
+}
+
+}  // namespace bdinterp
