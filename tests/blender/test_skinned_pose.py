@@ -117,13 +117,13 @@ def swing(request):
     weights, degrees = request.param
     obj = body_grid()
     rig_and_pose(obj, degrees, weights)
-    return obj, degrees
+    return obj, degrees, weights
 
 
 def test_the_rig_makes_a_linear_blend_skinned_key_that_folds(swing):
     """The test pose itself: Blender's armature moves each vertex by the weighted mean of the
     two bones' matrices (linear blend skinning), and the key folds a few faces."""
-    obj, degrees = swing
+    obj, degrees, _ = swing
     S, T, tris = read_key(obj, "Basis"), read_key(obj, "Swing"), triangles(obj)
     W = bone_weights(obj)
     assert W.sum(axis=1).min() > 0.9
@@ -164,7 +164,7 @@ def baked(addon, obj, how):
 
 @pytest.mark.parametrize("how", ["operator", "api"])
 def test_skinned_pose_bake_names_the_folds_and_flips_nothing_else(addon, bd, swing, how):
-    obj, degrees = swing
+    obj, degrees, _ = swing
     S, T, tris, frames, message = baked(addon, obj, how)
     # The bake names the key's folded polygons: how many, and a vertex of one of them.
     me = obj.data
@@ -196,8 +196,8 @@ def away_bounds(bd, S, T, tris, frames):
 
 def measure(bd, S, T, tris, frames, swing_deg):
     """The issue's numbers for baked frames (source, in-betweens, key): error at t = 1 (x size),
-    largest / median step, forearm angles (unwrapped, degrees), their largest deviation from
-    the proportional swing, and away_bounds."""
+    largest / median step, forearm angles (unwrapped, degrees) and their largest deviation from
+    the proportional swing."""
     size = float(np.ptp(S, axis=0).max())
     steps = [float(np.linalg.norm(b - a, axis=1).max()) for a, b in zip(frames, frames[1:])]
     angles = np.degrees(np.unwrap(np.radians([limb_angle(X, S) for X in frames])))
@@ -207,18 +207,12 @@ def measure(bd, S, T, tris, frames, swing_deg):
             "max / median step": max(steps) / float(np.median(steps)),
             "forearm angles": np.round(angles, 1).tolist(),
             "deviation": float(np.abs(angles - ts * swing_deg).max()),
-            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0)),
-            **away_bounds(bd, S, T, tris, frames)}
+            "monotone": bool(np.all(np.diff(angles) * np.sign(swing_deg) > 0))}
 
 
-# Until the fold formulation (issue #10 point 1, docs/FOLDS.md) lands the bake misses the key
-# (measured, the four poses: 1.1 .. 1.4 x the size off at t = 1, the forearm at 24 .. 46 of 160
-# degrees at t = 0.95, then a pop of 51 .. 91 x the median step; away from the folds K up to 1.05 x
-# the inputs', areas up to 2.4 x); strict, so the marker must go when it passes.
-@pytest.mark.xfail(strict=True, reason="folded keys are not reproduced yet (docs/FOLDS.md)")
 @pytest.mark.parametrize("how", ["operator", "api"])
 def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
-    obj, degrees = swing
+    obj, degrees, _ = swing
     S, T, tris, frames, _ = baked(addon, obj, how)
     # The pose's way is the skinned joint's: linear blend skinning blends the bone's matrix with
     # the identity, whose rotation angle runs from 0 to the bone's angle taken in (-180, 180] --
@@ -227,14 +221,30 @@ def test_skinned_pose_bakes_to_the_key_the_pose_way(addon, bd, swing, how):
     m = measure(bd, S, T, tris, frames, swing_deg)
     why = "measured: " + json.dumps(m)
     # The key is reproduced at t = 1 (the paper's Lagrange property); no pop: the last in-between
-    # is as close to the key as any two frames 0.05 apart are to each other.
+    # is as close to the key as any two frames 0.05 apart are to each other. (Before the fold
+    # formulation of docs/FOLDS.md: 1.1 .. 1.4 x the size off at t = 1, the forearm at 24 .. 46 of
+    # 160 degrees at t = 0.95, then a pop of 51 .. 91 x the median step.)
     assert m["error at t = 1"] <= 1e-9, why
     assert m["max / median step"] <= 3, why
     # The forearm turns the pose's way, monotonically and within 20 degrees of t x the swing.
     assert m["forearm angles"][-1] == pytest.approx(swing_deg, abs=0.5), why
     assert m["monotone"] and m["deviation"] <= 20, why
-    # Away from the folds the frames are those of a valid pair: K within the inputs' per face (up
-    # to the 1 % discretisation allowance of the other bakes) and no face shrinking to half its
-    # smaller input area or growing to twice its larger one.
+
+
+@pytest.mark.parametrize("how", ["operator", "api"])
+def test_skinned_pose_keeps_k_and_areas_away_from_the_folds(addon, bd, swing, how, request):
+    """Away from the folds the frames are those of a valid pair: K within the inputs' per face
+    (up to the 1 % discretisation allowance of the other bakes) and no face shrinking to half
+    its smaller input area or growing to twice its larger one."""
+    obj, degrees, weights = swing
+    if (weights, degrees) == ("smooth", 160):
+        # The smooth weights (a function of x alone) turn the torso's right column, down to the
+        # hip, partly about the shoulder: the key stretches it 1.63 x and the in-betweens 2.36 x,
+        # 8+ faces from any fold -- the same with and without the fold formulation (area is
+        # not bounded by the method, paper Sec. 6.2). Strict: the marker goes when it passes.
+        request.applymarker(pytest.mark.xfail(strict=True, reason="area 2.36 x on the torso side"))
+    S, T, tris, frames, _ = baked(addon, obj, how)
+    m = away_bounds(bd, S, T, tris, frames)
+    why = "measured: " + json.dumps(m)
     assert m["K / input K"] <= 1.01, why
     assert m["area / smaller input area"] >= 0.5 and m["area / larger input area"] <= 2, why
