@@ -114,6 +114,19 @@ void check_pieces_remain(const Mesh& mesh, const std::vector<char>& in_region) {
 
 }  // namespace
 
+void close_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, std::vector<char>& in_region) {
+  const std::vector<std::vector<int>> vf = detail::vertex_faces(mesh.faces(), mesh.num_vertices());
+  for (bool changed = std::count(in_region.begin(), in_region.end(), 1) > 0; changed;) {
+    changed = false;
+    for (int v = 0; v < mesh.num_vertices(); ++v) {
+      if (!pinched(mesh, vf[v], in_region, v)) continue;
+      for (int f : vf[v]) in_region[f] = 1;
+      changed = true;
+    }
+    if (!changed) changed = grow_at_loops(mesh, shapes, base, vf, in_region);
+  }
+}
+
 FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, const FoldOptions& options) {
   const Faces& F = mesh.faces();
   const std::vector<std::vector<int>> vf = detail::vertex_faces(F, mesh.num_vertices());
@@ -124,15 +137,7 @@ FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, i
     if (seed[v])
       for (int f : vf[v]) r.in_region[f] = 1;
   const long seeded = std::count(r.in_region.begin(), r.in_region.end(), 1);
-  for (bool changed = seeded > 0; changed;) {
-    changed = false;
-    for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (!pinched(mesh, vf[v], r.in_region, v)) continue;
-      for (int f : vf[v]) r.in_region[f] = 1;
-      changed = true;
-    }
-    if (!changed) changed = grow_at_loops(mesh, shapes, base, vf, r.in_region);
-  }
+  close_region(mesh, shapes, base, r.in_region);
   check_pieces_remain(mesh, r.in_region);
   for (int f = 0; f < F.rows(); ++f)
     if (r.in_region[f]) r.faces.push_back(f);

@@ -3,9 +3,12 @@
 // solve for R's free vertices and those parts' translations. Reasoning: docs/FOLDS.md.
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
+#include <algorithm>
 #include <array>
 #include <deque>
 #include <limits>
+#include <queue>
+#include <utility>
 
 #include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
@@ -60,19 +63,27 @@ struct FoldFill::Plan {
   explicit Plan(const Mesh& m) : mesh(m) {}
 
   // Lifts the principal angles `ang` across the dual graph from the faces already set in theta,
-  // through the faces with allow[f]: each reached face takes the branch nearest its parent's.
+  // through the faces with allow[f]: each reached face takes the branch nearest its neighbour's on
+  // the path with the least total turn (Dijkstra). Across a fold region the plain breadth-first
+  // walk went through a collapsed face and lifted a part by 2 pi (the bar at n = 24, 200 deg).
   void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta) const {
-    std::deque<int> queue;
+    using Entry = std::pair<double, int>;
+    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
+    std::vector<double> cost(theta.size(), std::numeric_limits<double>::infinity());
     for (int f = 0; f < theta.size(); ++f)
-      if (!std::isnan(theta[f])) queue.push_back(f);
+      if (!std::isnan(theta[f])) cost[f] = 0, queue.emplace(0.0, f);
     while (!queue.empty()) {
-      const int f = queue.front();
-      queue.pop_front();
-      for (int c = 0; c < 3; ++c) {
-        const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
-        if (g < 0 || !allow[g] || !std::isnan(theta[g])) continue;
-        theta[g] = theta[f] + wrap_angle(ang[g] - theta[f]);
-        queue.push_back(g);
+      const auto [c, f] = queue.top();
+      queue.pop();
+      if (c > cost[f]) continue;
+      for (int k = 0; k < 3; ++k) {
+        const int g = mesh.opposite_face(mesh.face_edges()(f, k), f);
+        if (g < 0 || !allow[g] || cost[g] == 0) continue;
+        const double step = wrap_angle(ang[g] - theta[f]), total = c + std::abs(step);
+        if (total >= cost[g]) continue;
+        cost[g] = total;
+        theta[g] = theta[f] + step;
+        queue.emplace(total, g);
       }
     }
   }
@@ -100,6 +111,7 @@ struct FoldFill::Plan {
 
   void find_parts(const std::vector<char>& in_region);
   void plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces);
+  void to_anchor_branch(Eigen::VectorXd& theta) const;
   void plan_systems(const FoldRegion& region);
 };
 
@@ -136,6 +148,30 @@ void FoldFill::Plan::find_parts(const std::vector<char>& in_region) {
     if (l >= 0) main[l] = 1;
 }
 
+void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
+  // The inputs' fields are blended, so a 2 pi k of one input turns the in-between by 2 pi k t.
+  // The main part's anchor measures its rotation on the branch of the area-weighted median
+  // (AnchorFrame::bulk_rotations); the field of each piece takes that branch too.
+  for (size_t q = 0; q < ref.size(); ++q) {
+    if (!main[q]) continue;
+    std::vector<std::pair<double, double>> rot;  // (angle, area) of the part's faces
+    double total = 0;
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      if (part[f] == static_cast<int>(q)) rot.emplace_back(theta[f], area[f]), total += area[f];
+    std::sort(rot.begin(), rot.end());
+    double acc = 0, median = rot.back().first;
+    for (const auto& [a, w] : rot)
+      if ((acc += w) >= 0.5 * total) {
+        median = a;
+        break;
+      }
+    const double shift = 2 * kPi * std::round(median / (2 * kPi));
+    const int piece = mesh.piece_of_face(ref[q]);
+    for (int f = 0; f < mesh.num_faces(); ++f)
+      if (mesh.piece_of_face(f) == piece) theta[f] -= shift;
+  }
+}
+
 void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces) {
   const int nf = mesh.num_faces();
   const std::vector<char> all(nf, 1);
@@ -150,6 +186,7 @@ void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const 
       if (main[p]) th[ref[p]] = ang[ref[p]];
     lift(ang, unfolded, th);  // through the faces this input does not fold, then through the rest
     lift(ang, all, th);
+    to_anchor_branch(th);
     // Over R: the harmonic extension of M's field, moved to the face's own rotation where it does
     // not fold (the branch nearest the extension).
     Eigen::VectorXd h = th;

@@ -43,6 +43,10 @@ struct FoldRegion {
 FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
                        const FoldOptions& options = {});
 
+// The growth step of fold_region: adds faces to in_region (#F, 1 = in R) until M' has no pinched
+// vertex and its loops turn in every input as in shapes[base]. Nothing changes for an empty R.
+void close_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, std::vector<char>& in_region);
+
 // The fill of a fold region, planned once (read-only afterwards; fill() may be called from any
 // thread, the solves are serialised by a mutex of its own).
 class FoldFill {
