@@ -42,7 +42,7 @@ DPI = 80
 # README's gallery table: what each example is called there (default: its name).
 LABELS = {"affine": "affine (Fig. 4)", "bar_half_bent": "bar_half_bent (Fig. 11)",
           "conformal": "conformal (Fig. 9)", "teichmuller": "teichmuller (Sec. 4.3)",
-          "spiral": "spiral (1.5 turns)", "folded": "folded (Fig. 10, invalid input)",
+          "spiral": "spiral (1.5 turns)", "folded": "folded (Fig. 10, folded target)",
           "letter_8": "letter_8 (2 holes)", "letter_e": "letter_e (Blender text, a hole)",
           "skinned_swing": "skinned_swing (armature, folds)",
           "body_tail": "body_tail (tail bent 300°)"}

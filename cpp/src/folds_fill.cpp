@@ -48,6 +48,7 @@ struct FoldFill::Plan {
   Mesh mesh;
   std::vector<Eigen::Matrix2d> base_inverse;  // #F: inverse of the base's edge matrix
   std::vector<double> area;                   // #F: base area
+  std::vector<double> weight;                 // #F: the face's weight in the Poisson energy
   std::vector<int> part;                      // #F: part (component) of M', -1 in R
   std::vector<int> part_of_vertex;            // #V: part of an M' vertex, else -1
   std::vector<int> ref;                       // per part: its first face
@@ -64,8 +65,8 @@ struct FoldFill::Plan {
 
   // Lifts the principal angles `ang` across the dual graph from the faces already set in theta,
   // through the faces with allow[f]: each reached face takes the branch nearest its neighbour's on
-  // the path with the least total turn (Dijkstra). Across a fold region the plain breadth-first
-  // walk went through a collapsed face and lifted a part by 2 pi (the bar at n = 24, 200 deg).
+  // the path with the least total turn (Dijkstra), so that the value does not depend on the order
+  // of a walk that may cross a collapsed face (where neighbours differ by up to pi).
   void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta) const {
     using Entry = std::pair<double, int>;
     std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
@@ -226,13 +227,14 @@ void FoldFill::Plan::plan_systems(const FoldRegion& region) {
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         const int va = var[mesh.faces()(f, a)], vb = var[mesh.faces()(f, b)];
-        if (va >= 0 && vb >= 0) L.emplace_back(va, vb, area[f] * B[a].dot(B[b]));
+        if (va >= 0 && vb >= 0) L.emplace_back(va, vb, weight[f] * B[a].dot(B[b]));
       }
   }
   if (n > 0) poisson = factorised(n, L);
 }
 
-FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region)
+FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region,
+                   const FoldOptions& options)
     : region_(std::move(region)), plan_(std::make_unique<Plan>(mesh)) {
   Plan& p = *plan_;
   const Faces& F = mesh.faces();
@@ -243,6 +245,10 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
     p.base_inverse.push_back(E.inverse());
     p.area.push_back(0.5 * std::abs(E.determinant()));
   }
+  p.weight = p.area;
+  for (int f = 0; f < F.rows(); ++f)
+    for (const Positions& X : shapes)
+      if (doubled_area(X, F, f) * p.base_inverse[f].determinant() <= 0) p.weight[f] = options.folded_weight * p.area[f];
   p.find_parts(region_.in_region);
   p.plan_systems(region_);
   p.plan_rotations(shapes, region_.faces);
@@ -250,7 +256,9 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
 
 FoldFill::~FoldFill() = default;
 
-void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const {
+void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* faces, int* free_vertices) const {
+  if (faces) *faces = static_cast<int>(region_.faces.size());
+  if (free_vertices) *free_vertices = static_cast<int>(region_.free_vertices.size());
   const std::lock_guard<std::mutex> lock(mutex_);
   const Plan& p = *plan_;
   const Faces& F = p.mesh.faces();
@@ -298,9 +306,9 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const {
     for (int a = 0; a < 3; ++a) {
       const int va = p.var[F(f, a)];
       if (va < 0) continue;
-      Eigen::Vector2d rhs = p.area[f] * G * B[a];
+      Eigen::Vector2d rhs = p.weight[f] * G * B[a];
       for (int c = 0; c < 3; ++c)  // the known positions move to the right-hand side
-        if (p.part_of_vertex[F(f, c)] >= 0) rhs -= p.area[f] * B[a].dot(B[c]) * X.row(F(f, c)).transpose();
+        if (p.part_of_vertex[F(f, c)] >= 0) rhs -= p.weight[f] * B[a].dot(B[c]) * X.row(F(f, c)).transpose();
       b.row(va) += rhs.transpose();
     }
   }

@@ -30,10 +30,9 @@ using detail::weights_text;
 void merge(FrameStats& into, const FrameStats& s) {
   merge(static_cast<FlattenReport&>(into), s);
   into.flatness = std::max(into.flatness, s.flatness);
-  into.pieces = s.pieces;
+  into.pieces = s.pieces;  // these three are the same for every frame of an Interpolator
+  into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices;
   into.converged = into.converged && s.converged;
-  into.fold_faces = std::max(into.fold_faces, s.fold_faces);
-  into.fold_free_vertices = std::max(into.fold_free_vertices, s.fold_free_vertices);
   if (into.warnings.empty()) into.warnings = s.warnings;
   into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
   for (size_t k = 0; k < s.hole_closure.size(); ++k)
@@ -42,9 +41,8 @@ void merge(FrameStats& into, const FrameStats& s) {
 
 // The rows of `shapes` of the piece's vertices, in its local order.
 std::vector<Positions> local_positions(const std::vector<Positions>& shapes, const Piece& p) {
-  std::vector<Positions> local(shapes.size(), Positions(p.vertices.size(), 2));
-  for (size_t i = 0; i < shapes.size(); ++i)
-    for (size_t k = 0; k < p.vertices.size(); ++k) local[i].row(k) = shapes[i].row(p.vertices[k]);
+  std::vector<Positions> local;
+  for (const Positions& X : shapes) local.emplace_back(X(p.vertices, Eigen::all));
   return local;
 }
 
@@ -156,31 +154,28 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   const std::vector<Positions> unit = normalise(shapes, mesh);
   anchor_.path.position /= scale_;  // only differences of path positions matter (see blend_frames)
   folded_ = check_not_mirrored(mesh, unit, options.base);
+  std::vector<Piece> pieces = split_into_pieces(mesh);
+  for (size_t k = 0; k < pieces.size(); ++k) {
+    const std::vector<Positions> local = local_positions(unit, pieces[k]);
+    for (int i = 0; i < num_shapes(); ++i) check_orientation(local[i], pieces[k], i, static_cast<int>(k));
+  }
   // An input folds: the method solves the rest of the mesh, the fold region is filled (folds.h).
   std::unique_ptr<const Mesh> cut;
   if (options.folds && std::any_of(folded_.begin(), folded_.end(), [](const std::vector<int>& f) { return !f.empty(); })) {
-    int index = 0;  // the inputs' orientation on the whole pieces, named as without folds
-    for (const Piece& p : split_into_pieces(mesh)) {
-      const std::vector<Positions> local = local_positions(unit, p);
-      for (size_t i = 0; i < local.size(); ++i) check_orientation(local[i], p, static_cast<int>(i), index);
-      ++index;
-    }
     folds_ = std::make_unique<const FoldFill>(mesh, unit, options.base, fold_region(mesh, unit, options.base));
     cut = std::make_unique<const Mesh>(folds_->region().rest, num_vertices_);
+    pieces = split_into_pieces(*cut);  // fold-free in every input: their orientation is checked
   }
-  const Mesh& solved = cut ? *cut : mesh;
   for (int v = 0; v < num_vertices_; ++v)
-    if (solved.is_isolated_vertex(v)) isolated_.push_back(v);
+    if ((cut ? *cut : mesh).is_isolated_vertex(v)) isolated_.push_back(v);
   for (const Positions& X : unit) {
     isolated_positions_.emplace_back(isolated_.size(), 2);
     for (size_t k = 0; k < isolated_.size(); ++k) isolated_positions_.back().row(k) = X.row(isolated_[k]);
   }
   workers_.resize(1);
   const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
-  for (Piece& p : split_into_pieces(solved)) {
+  for (Piece& p : pieces) {
     const std::vector<Positions> local = local_positions(unit, p);
-    for (size_t i = 0; i < unit.size(); ++i)
-      check_orientation(local[i], p, static_cast<int>(i), static_cast<int>(plans_.size()));
     const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
     plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av, still));
@@ -236,11 +231,7 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
     out.row(isolated_[k]).setZero();
     for (int i = 0; i < num_shapes(); ++i) out.row(isolated_[k]) += w[i] * isolated_positions_[i].row(k);
   }
-  if (folds_) {
-    folds_->fill(w, out);
-    st.fold_faces = static_cast<int>(folds_->region().faces.size());
-    st.fold_free_vertices = static_cast<int>(folds_->region().free_vertices.size());
-  }
+  if (folds_) folds_->fill(w, out, &st.fold_faces, &st.fold_free_vertices);
   // Back to the caller's coordinates, checking that every position is finite on the way.
   bool finite = true;
   for (Eigen::Index v = 0; v < out.rows(); ++v) {

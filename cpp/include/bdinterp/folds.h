@@ -24,6 +24,11 @@ struct FoldOptions {
   // An interior vertex whose unsigned angle sum in some input is off 2 pi by more than this
   // (radians) is a branch point (the faces around it wrap twice) and seeds the region too.
   double angle_tolerance = 1e-6;
+  // The weight (times its area) in the Poisson energy of a face some input folds. Its target
+  // gradient passes through a singular matrix between the keys; at full weight it pulls its
+  // neighbours along: K 53 % above the inputs' three rings from the folds (bar at n = 48, 160 deg),
+  // 0.1 % with 0.2 (docs/FOLDS.md). The keys stay exact for any weight (zero energy there).
+  double folded_weight = 0.2;
 };
 
 // The fold region of a set of inputs.
@@ -54,7 +59,8 @@ class FoldFill {
   // mesh: the whole mesh; shapes: the inputs (#V by 2, the coordinates fill() works in); region from
   // fold_region(mesh, shapes, base). Factorises the two constant systems (harmonic rotations over
   // R's dual graph; the Poisson system of R's free vertices and the separated parts' translations).
-  FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region);
+  FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region,
+           const FoldOptions& options = {});
   ~FoldFill();
 
   const FoldRegion& region() const { return region_; }
@@ -62,7 +68,8 @@ class FoldFill {
   // sum 1), every part of M' placed by its own anchor; other rows are ignored. On exit: the parts of
   // M' separated from the main part (the largest of its piece) turned by the blend of the inputs'
   // rotations, and the free vertices and those parts' translations from the Poisson solve.
-  void fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X) const;
+  // faces, free_vertices (optional): receive the sizes of R and of its free vertices.
+  void fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* faces = nullptr, int* free_vertices = nullptr) const;
 
  private:
   struct Plan;
