@@ -3,6 +3,7 @@
 #include "bdinterp/folds.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <sstream>
 
@@ -13,18 +14,22 @@ namespace bdinterp {
 namespace {
 using detail::corner_angle;
 
-// Seed vertices: those of faces shrunk below options.shrink of their base area (folded faces
-// included) in some input, and interior vertices whose unsigned angle sum is off 2 pi.
+// Seed vertices: those of faces whose signed area in some input is below options.shrink times
+// that in another (folded faces included: their ratio is negative), and interior vertices whose
+// unsigned angle sum in some input is off 2 pi. The ratio between inputs, not to the base, so that
+// the region does not depend on which input is the base (with the base's ratio only, the pair
+// reversed found 34 faces instead of 78 on the bar at 160 degrees, and its swing lagged).
 std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
                                 const FoldOptions& options) {
   const Faces& F = mesh.faces();
   std::vector<char> seed(mesh.num_vertices(), 0);
+  // Per face: the least and largest signed area relative to the base (never collapsed: validated).
+  Eigen::VectorXd lo = Eigen::VectorXd::Constant(F.rows(), HUGE_VAL), hi = -lo;
   for (const Positions& X : shapes) {
     Eigen::VectorXd sum = Eigen::VectorXd::Zero(mesh.num_vertices());
     for (int f = 0; f < F.rows(); ++f) {
-      // Base faces are never collapsed (validated), so the ratio is finite; < 0 when folded.
-      if (doubled_area(X, F, f) / doubled_area(shapes[base], F, f) < options.shrink)
-        for (int c = 0; c < 3; ++c) seed[F(f, c)] = 1;
+      const double r = doubled_area(X, F, f) / doubled_area(shapes[base], F, f);
+      lo[f] = std::min(lo[f], r), hi[f] = std::max(hi[f], r);
       for (int c = 0; c < 3; ++c) sum[F(f, c)] += corner_angle(X, F, f, c);
     }
     for (int v = 0; v < mesh.num_vertices(); ++v)
@@ -32,6 +37,9 @@ std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& 
           std::abs(sum[v] - 2 * kPi) > options.angle_tolerance)
         seed[v] = 1;
   }
+  for (int f = 0; f < F.rows(); ++f)
+    if (lo[f] < options.shrink * hi[f])
+      for (int c = 0; c < 3; ++c) seed[F(f, c)] = 1;
   return seed;
 }
 
@@ -73,7 +81,9 @@ Faces rest_faces(const Faces& F, const std::vector<char>& in_region) {
 // differs from the base's (a loop the input winds around twice, or not at all). True if any.
 bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
                    const std::vector<std::vector<int>>& vf, std::vector<char>& in_region) {
-  const Mesh rest(rest_faces(mesh.faces(), in_region), mesh.num_vertices());
+  const Faces faces = rest_faces(mesh.faces(), in_region);
+  if (faces.rows() == 0) return false;  // nothing left: check_pieces_remain names the piece
+  const Mesh rest(faces, mesh.num_vertices());
   std::vector<Eigen::VectorXd> sums;
   for (const Positions& X : shapes) {
     sums.push_back(Eigen::VectorXd::Zero(mesh.num_vertices()));

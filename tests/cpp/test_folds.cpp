@@ -8,6 +8,7 @@
 #include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
 #include "bdinterp/interpolator.h"
+#include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -107,6 +108,44 @@ TEST_F(FoldedGrid, FoldedKeysAreReachedExactlyAndTheFramesMoveContinuously) {
   std::vector<double> sorted = steps;
   std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
   EXPECT_LE(*std::max_element(steps.begin(), steps.end()), 3 * sorted[sorted.size() / 2]);
+}
+
+// A polar disk: a centre vertex, nr rings of nt vertices (radii 1/nr .. 1), a fan around the
+// centre and quads split between the rings.
+testing::TestMesh polar_disk(int nr, int nt) {
+  testing::TestMesh m;
+  m.V.resize(1 + nr * nt, 2);
+  m.V.row(0) << 0, 0;
+  for (int i = 0; i < nr; ++i)
+    for (int j = 0; j < nt; ++j)
+      m.V.row(1 + i * nt + j) << (i + 1.0) / nr * std::cos(2 * kPi * j / nt), (i + 1.0) / nr * std::sin(2 * kPi * j / nt);
+  m.F.resize(nt + 2 * (nr - 1) * nt, 3);
+  int f = 0;
+  for (int j = 0; j < nt; ++j) m.F.row(f++) << 0, 1 + j, 1 + (j + 1) % nt;
+  for (int i = 0; i + 1 < nr; ++i)
+    for (int j = 0; j < nt; ++j) {
+      const int a = 1 + i * nt + j, b = 1 + i * nt + (j + 1) % nt;
+      testing::split_quad(m.F, f, a, a + nt, b + nt, b, false);
+    }
+  return m;
+}
+
+TEST(FoldRegion, ARestThatWindsTwiceGrowsUntilNothingIsLeft) {
+  // z -> z^2: the centre is a branch point (angle sum 4 pi), so the fan joins R; the rest is a
+  // fold-free flat annulus whose loops turn by 4 pi and -4 pi instead of 2 pi and -2 pi. Growing
+  // at those loops never ends before R is the whole disk: refused, naming the piece.
+  const testing::TestMesh m = polar_disk(6, 24);
+  const Positions squared = testing::apply(m.V, [](Eigen::Vector2d p) {
+    return Eigen::Vector2d(p.x() * p.x() - p.y() * p.y(), 2 * p.x() * p.y());
+  });
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  for (int f = 0; f < m.F.rows(); ++f) ASSERT_GT(doubled_area(squared, m.F, f), 0) << f;  // no fold
+  testing::expect_invalid([&] { fold_region(mesh, {m.V, squared}, 0); }, "piece 0 (near vertex 0) everywhere");
+  // A conformal map that does not wind (z -> z + 0.1 z^2, areas 0.81 .. 1.21) seeds nothing.
+  const Positions mild = testing::apply(m.V, [](Eigen::Vector2d p) {
+    return Eigen::Vector2d(p.x() + 0.1 * (p.x() * p.x() - p.y() * p.y()), p.y() + 0.2 * p.x() * p.y());
+  });
+  EXPECT_TRUE(fold_region(mesh, {m.V, mild}, 0).faces.empty());
 }
 
 TEST(FoldRegion, FoldFreeInputsTakeTheUsualPath) {

@@ -16,11 +16,13 @@
 namespace bdinterp {
 
 struct FoldOptions {
-  // A face whose signed area in some input is below `shrink` times its base area joins the region's
-  // seed (folded faces have ratio < 0). 0.5: the skinned joints of tests/python/test_folds.py leave
-  // M' connected through faces shrunk to 0.1 .. 0.5 otherwise, and the length blend of those makes
-  // the limb lag (46 deg behind the proportional swing at t = 0.5, a pop at the end; docs/FOLDS.md).
-  double shrink = 0.5;
+  // A face whose signed area in some input is below `shrink` times that in another input joins the
+  // region's seed (folded faces: ratio < 0). With folded faces only, the skinned joints of
+  // tests/python/test_folds.py left M' connected through faces shrunk to 0.05 .. 0.5, whose length
+  // blend made the limb lag (46 deg behind the proportional swing at t = 0.5, then a pop). 0.4: at
+  // 0.3 the fill's K excess two rings out reached 65 % (bar, n = 48), at 0.5 the body's sheared
+  // torso joined R (K 3x the inputs' there); docs/FOLDS.md.
+  double shrink = 0.4;
   // An interior vertex whose unsigned angle sum in some input is off 2 pi by more than this
   // (radians) is a branch point (the faces around it wrap twice) and seeds the region too.
   double angle_tolerance = 1e-6;
@@ -40,8 +42,8 @@ struct FoldRegion {
   int grown = 0;                   // faces added so that M' has no pinch and its loops turn as in the base
 };
 
-// R = the faces incident to a seed vertex (a vertex of a face shrunk below options.shrink in some
-// input, or a branch point), grown until M' has no pinched vertex (a vertex whose M' faces form
+// R = the faces incident to a seed vertex (a vertex of a face whose area in some input is below
+// options.shrink times that in another, or a branch point), grown until M' has no pinched vertex (a vertex whose M' faces form
 // more than one fan) and every boundary loop of M' turns by the same total in every input as in
 // shapes[base] (otherwise the faces at that loop join R). shapes: the inputs (#V by 2 each).
 // R is empty when no input folds or shrinks a face. Throws InvalidInput when R takes a whole piece.
