@@ -106,8 +106,50 @@ def folded(n_folds=10, seed=7):
     return V, F, Y
 
 
+def _body_mesh(outline, n_approx, seed):
+    """Delaunay mesh of a non-convex outline (n,2): boundary samples spaced like the jittered
+    interior lattice, faces with their centroid outside dropped; checked to be one disk whose
+    boundary is the sampled outline (Delaunay keeps every outline segment here)."""
+    B, I, _ = meshes.sample_polygon(outline, n_approx, seed)
+    V, F = meshes._delaunay(np.concatenate([B, I]), outline=outline)
+    edges = len(np.unique(np.sort(np.r_[F[:, :2], F[:, 1:], F[:, ::2]], axis=1), axis=0))
+    assert len(meshes.boundary_edges(F)) == len(B) and len(V) - edges + len(F) == 1
+    return V, F
+
+
+SHOULDER = np.array([1.0, 1.5])
+
+
+def skinned_swing(degrees=200.0, blend=(0.85, 1.25), seed=9):
+    """A torso [0, 1] x [0, 2] with an arm [1, 4] x [1.25, 1.75], posed the way an armature
+    poses it: two-bone linear blend skinning, the arm bone turned by ``degrees`` about the
+    shoulder, smoothstep weights over x in ``blend``. The joint folds a few triangles (issue
+    #10); since skinning blends the bone's matrix with the identity, 200 degrees gives the
+    same key as -160 (the arm swings clockwise)."""
+    outline = np.array([(0, 0), (1, 0), (1, 1.25), (4, 1.25), (4, 1.75), (1, 1.75), (1, 2),
+                        (0, 2)], dtype=float)
+    V, F = _body_mesh(outline, 900, seed)
+    s = np.clip((V[:, 0] - blend[0]) / (blend[1] - blend[0]), 0.0, 1.0)
+    w = (s * s * (3 - 2 * s))[:, None]
+    a = np.radians(degrees)
+    R = np.array([[np.cos(a), -np.sin(a)], [np.sin(a), np.cos(a)]])
+    Y = SHOULDER + (1 - w) * (V - SHOULDER) + w * ((V - SHOULDER) @ R.T)
+    return V, F, Y
+
+
+def body_tail(degrees=300.0, seed=10):
+    """A body [0, 2] x [0, 1] with a tail [2, 5] x [0.35, 0.65] that curls up by ``degrees``
+    (a smooth ramp along it, deform.bend); the body does not move (issue #10, point 3)."""
+    outline = np.array([(0, 0), (2, 0), (2, 0.35), (5, 0.35), (5, 0.65), (2, 0.65), (2, 1),
+                        (0, 1)], dtype=float)
+    V, F = _body_mesh(outline, 900, seed)
+    Y = bend(V, (2.0, 0.5), (1.0, 0.0), smooth_ramp(np.radians(degrees), 0, 3),
+             mask=V[:, 0] > 2.0)
+    return V, F, Y
+
+
 EXAMPLES = {f.__name__: f for f in (bar_half_bent, spiral, affine, conformal,
-                                    teichmuller, folded)}
+                                    teichmuller, folded, skinned_swing, body_tail)}
 
 
 def write_example(name, V, F, Y):

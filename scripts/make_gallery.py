@@ -13,9 +13,12 @@ For every example (examples/<name>/{source,target}.obj) it interpolates at
 - <name>_distortion.png: K(t) of 12 BDI faces (Fig. 3);
 
 plus convergence.png (Fig. 6 left), and GALLERY.md with one table per
-example: max K over t, faces flipped (or collapsed) and, for BDI, the
-the most Newton iterations in a frame.  The same markdown is printed on stdout.
-Given NAMEs, only those are redone and GALLERY.md is left as it is.
+example: max K over t, faces flipped (or collapsed), the error at t = 1 and,
+for BDI, the most Newton iterations in a frame.  The same markdown is printed on
+stdout.  A full run (no NAMEs, default --out) also writes the summary table,
+one row per example, into README.md between the README_BEGIN and README_END
+lines, so that the README's numbers are never typed by hand.  Given NAMEs,
+only those are redone and GALLERY.md and README.md are left as they are.
 """
 
 import argparse
@@ -36,6 +39,15 @@ from bdinterp_tools import convergence  # noqa: E402
 TS = np.linspace(0.0, 1.0, 21)
 PICTURED_T = {"spiral": 0.75}
 DPI = 80
+# README's gallery table: what each example is called there (default: its name).
+LABELS = {"affine": "affine (Fig. 4)", "bar_half_bent": "bar_half_bent (Fig. 11)",
+          "conformal": "conformal (Fig. 9)", "teichmuller": "teichmuller (Sec. 4.3)",
+          "spiral": "spiral (1.5 turns)", "folded": "folded (Fig. 10, folded target)",
+          "letter_8": "letter_8 (2 holes)", "letter_e": "letter_e (Blender text, a hole)",
+          "skinned_swing": "skinned_swing (armature, folds)",
+          "body_tail": "body_tail (tail bent 300°)"}
+README_BEGIN = "<!-- gallery table: written by scripts/make_gallery.py -->"
+README_END = "<!-- end of gallery table -->"
 
 
 def examples(names):
@@ -49,7 +61,45 @@ def examples(names):
     return [(n, os.path.join(base, n)) for n in (names or found)]
 
 
-def table(name, X0, X1, F, result):
+def away_from_folds(X0, X1, F, rings=2):
+    """Boolean (m,) mask of the faces outside a `rings`-face neighbourhood (faces sharing a
+    vertex, repeated) of the target's folded faces, or None when none folds: where issue #10
+    asks a folded pair to behave like a valid one."""
+    near = bdinterp.area_ratio(X0, X1, F) <= 0
+    if not near.any():
+        return None
+    for _ in range(rings):
+        touched = np.zeros(len(X0), bool)
+        touched[F[near]] = True
+        near = touched[F].any(axis=1)
+    return ~near
+
+
+def numbers(X0, X1, F, result):
+    """Per method: max K over t and over 0 < t < 1, the most flipped faces in a frame and in an
+    in-between, frames with flips, flipped faces and the largest vertex error at t = 1 (relative
+    to the target's largest extent), Newton iterations (-1: not Newton); for a folded target
+    also max K and the most flipped faces of an in-between away from the folds."""
+    inner = (TS > 0) & (TS < 1)
+    size = float(np.ptp(X1, axis=0).max())
+    away = away_from_folds(X0, X1, F)
+    out = {}
+    for m, r in result.items():
+        out[m] = {"K": np.max(r["K"]), "K inner": np.max(r["K"][inner]),
+                  "flipped": np.max(r["flipped"]), "flipped inner": np.max(r["flipped"][inner]),
+                  "frames with flips": np.count_nonzero(r["flipped"]),
+                  "flipped at 1": r["flipped"][-1],
+                  "error at 1": np.linalg.norm(r["frames"][-1] - X1, axis=1).max() / size,
+                  "iterations": r["iterations"]}
+        if away is not None:
+            frames = r["frames"][inner]
+            out[m]["K away"] = np.max(r["K"][inner][:, away])
+            out[m]["flipped away"] = max(np.count_nonzero(bdinterp.area_ratio(X0, X, F)[away] <= 0)
+                                         for X in frames)
+    return out
+
+
+def table(name, X0, X1, F, nums):
     K_in = bdinterp.conformal_distortion(X0, X1, F)
     flips_in = np.count_nonzero(bdinterp.area_ratio(X0, X1, F) <= 0)
     lines = [f"### {name}", "",
@@ -58,17 +108,56 @@ def table(name, X0, X1, F, result):
              f"t = 0..1.", "",
              "| method | max K over t | max K, 0 < t < 1 "
              "| max flipped faces in a frame | frames with flips "
-             "| Newton iterations (most in a frame) |",
-             "|---|---|---|---|---|---|"]
-    inner = (TS > 0) & (TS < 1)
-    for m, r in result.items():
-        it = r["iterations"]
-        iters = str(it) if it >= 0 else "n/a"
-        lines.append(f"| {m} | {np.max(r['K']):.4g} "
-                     f"| {np.max(r['K'][inner]):.4g} "
-                     f"| {np.max(r['flipped'])} "
-                     f"| {np.count_nonzero(r['flipped'])} | {iters} |")
+             "| error at t = 1 (x size) | Newton iterations (most in a frame) |",
+             "|---|---|---|---|---|---|---|"]
+    for m, n in nums.items():
+        iters = str(n["iterations"]) if n["iterations"] >= 0 else "n/a"
+        lines.append(f"| {m} | {n['K']:.4g} | {n['K inner']:.4g} | {n['flipped']} "
+                     f"| {n['frames with flips']} | {n['error at 1']:.2g} | {iters} |")
+    if "K away" in next(iter(nums.values())):
+        lines += ["", "In-betweens outside two faces around the target's folds (where a folded pair "
+                  "must behave like a valid one): " + "; ".join(
+                      f"{m} max K {n['K away']:.4g}, at most {n['flipped away']} flipped"
+                      for m, n in nums.items()) + "."]
     return "\n".join(lines) + "\n"
+
+
+def summary(rows):
+    """README's table: one row per example from (name, X0, X1, F, nums)."""
+    methods = " / ".join(bdinterp.METHODS)
+    lines = [f"| example | vertices | input max K | max K, 0 < t < 1: {methods} "
+             f"| most faces flipped in an in-between: {methods} "
+             f"| error at t = 1 (x size): {methods} | BDI Newton iterations (most) |",
+             "|---|---|---|---|---|---|---|"]
+    for name, X0, X1, F, nums in rows:
+        K_in = bdinterp.conformal_distortion(X0, X1, F)
+        folded = np.count_nonzero(bdinterp.area_ratio(X0, X1, F) <= 0)
+        away = away_from_folds(X0, X1, F)
+
+        def each(key, away, fmt):  # "bdi / arap / linear"; folded: each (away from the folds)
+            return " / ".join(format(n[key], fmt) + (f" ({n[away]:{fmt}})" if folded else "")
+                              for n in nums.values())
+        lines.append(f"| {LABELS.get(name, name)} | {len(X0)} | {np.max(K_in):.4g}"
+                     + (f" ({np.max(K_in[away]):.4g}), {folded} folded" if folded else "")
+                     + f" | {each('K inner', 'K away', '.4g')} "
+                     f"| {each('flipped inner', 'flipped away', 'd')} "
+                     f"| {' / '.join(format(n['error at 1'], '.1g') for n in nums.values())} "
+                     f"| {nums['bdi']['iterations']} |")
+    return "\n".join(lines) + "\n"
+
+
+def write_readme(text, path=os.path.join(ROOT, "README.md")):
+    """Replace the lines between README_BEGIN and README_END of README.md by text."""
+    with open(path, encoding="utf-8") as f:
+        readme = f.read()
+    if README_BEGIN not in readme or README_END not in readme:
+        raise SystemExit(f"make_gallery: README.md has no '{README_BEGIN}' ... "
+                         f"'{README_END}' block")
+    head, rest = readme.split(README_BEGIN, 1)
+    tail = rest.split(README_END, 1)[1]
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(head + README_BEGIN + "\n" + text + README_END + tail)
+    print(f"wrote {os.path.relpath(path, ROOT)}", file=sys.stderr)
 
 
 def save(fig, path):
@@ -80,13 +169,15 @@ def save(fig, path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("names", nargs="*", help="examples (default: all)")
-    ap.add_argument("--out", default=os.path.join(ROOT, "docs", "gallery"))
+    default_out = os.path.join(ROOT, "docs", "gallery")
+    ap.add_argument("--out", default=default_out)
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     md = ["# Gallery", "",
           "Generated by `scripts/make_gallery.py` from `examples/`. K is the "
           "per-face conformal distortion w.r.t. the source (1 = angle "
           "preserving); 'flipped' counts faces with area ratio <= 0.", ""]
+    rows = []
     for name, folder in examples(args.names):
         X0, X1, F = io.read_pair(os.path.join(folder, "source.obj"),
                                  os.path.join(folder, "target.obj"))
@@ -100,7 +191,9 @@ def main():
         save(figures.distortion_curves_figure(
             X0, X1, F, TS, result["bdi"]["frames"], result["bdi"]["K"],
             sample), os.path.join(args.out, f"{name}_distortion.png"))
-        md += [table(name, X0, X1, F, result),
+        nums = numbers(X0, X1, F, result)
+        rows.append((name, X0, X1, F, nums))
+        md += [table(name, X0, X1, F, nums),
                f"![{name}: frames at t={t:g}]({name}_compare.png)", "",
                f"![{name}: K(t) per face]({name}_distortion.png)", ""]
     if not args.names:
@@ -118,11 +211,14 @@ def main():
                     f"{e2:.2e} / {ei:.2e}" for e2, ei in
                     zip(data["E2"][i, k], data["Einf"][i, k])) + " |")
         md += ["", "![convergence](convergence.png)", ""]
+    md[4:4] = [summary(rows)]
     text = "\n".join(md)
     if not args.names:  # a partial run must not clobber the full page
         with open(os.path.join(args.out, "GALLERY.md"), "w",
                   encoding="utf-8") as f:
             f.write(text)
+        if os.path.abspath(args.out) == os.path.abspath(default_out):
+            write_readme(summary(rows))
     print(text)
 
 

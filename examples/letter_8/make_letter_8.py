@@ -6,7 +6,7 @@ Run from the repository root::
 
 The outline is the union of two unit circles (centres (0, +-0.9)), the holes are circles of radius
 0.42 at (0, +-0.95); boundary points are spaced like the jittered interior lattice
-(bdinterp/meshes.py) and the Delaunay triangles inside the outline and outside both holes are kept.
+(tools/bdinterp_tools/meshes.py) and the Delaunay triangles inside the outline and outside both holes are kept.
 The target leans the 8 like an italic glyph and twists it: every point turns about the origin by
 0.35 y radians, x is stretched by 1.15 and sheared by 0.25 y. No target triangle is flipped.
 """
@@ -18,8 +18,10 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "..", "python"))
+sys.path.insert(0, os.path.join(HERE, "..", "..", "tools"))
 
-from bdinterp import io, meshes  # noqa: E402
+from bdinterp import io  # noqa: E402
+from bdinterp_tools import meshes  # noqa: E402
 
 N_VERTICES = 1500
 SEED = 8
