@@ -1,6 +1,7 @@
 // Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
-// chunks run by a small pool of its own (std::thread; workers spin for a few microseconds, then
-// sleep), except inside Interpolator::frames(), which already solves one frame per core.
+// chunks run by a small pool of its own (std::thread; idle workers spin 1 ms while the machine is
+// idle, 20 us while it is busy, then sleep), except inside Interpolator::frames(), which already
+// solves one frame per core.
 //
 // Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
 // split made every loop wait for the thread that shared its core, and its threads spin while they
@@ -19,6 +20,10 @@ namespace bdinterp::parallel {
 // thread's limit. 1 in a child process after fork().
 int loop_threads(long items);
 
+// Whether the pool judges the machine busy (more runnable threads than cores, sampled by its awake
+// workers; true until they have measured): its idle workers then spin only briefly. Diagnostics.
+bool machine_busy();
+
 // The contiguous share [first, second) of chunk `chunk` out of `chunks` of n iterations (the
 // split of OpenMP's schedule(static): the first n % chunks chunks get one iteration more).
 std::pair<long, long> share(long n, int chunk, int chunks);
@@ -26,6 +31,19 @@ std::pair<long, long> share(long n, int chunk, int chunks);
 namespace detail {
 using ChunkFn = void (*)(void* context, int chunk);
 void run(int chunks, ChunkFn fn, void* context);
+// Runnable threads on the machine now (the kernel's count from /proc/loadavg, the caller
+// included), or -1 if unknown.
+int runnable_threads();
+// The busy verdict from successive samples of runnable_threads(): the running mean (weights 1/4 on
+// the newest) of the excess of runnable threads over the cores is at least 0.5. Starts as busy
+// (mean 1); an unknown count (-1) counts as an excess of 1.
+class LoadMean {
+ public:
+  bool add(int runnable, int cores);
+
+ private:
+  double mean_ = 1.0;
+};
 }  // namespace detail
 
 // Calls body(chunk) for chunk = 0 .. chunks-1, on the calling thread and the pool's workers, and
