@@ -32,16 +32,16 @@ inline void pause_cpu() {
 // Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
-// How long an idle worker spins before it sleeps: long while the machine is idle, short while it
-// is busy. A warm frame alternates parallel loops with serial Cholesky solves (~0.15 ms each at 5k
-// vertices, milliseconds at 50k): a worker that went to sleep during a solve costs a futex wake-up
-// and a scheduling delay at the next loop, about what that loop gains on two cores (measured: with
-// 20 us spins only, warm frames on an idle machine were 1.01-1.07x the one-thread time). On a busy
-// machine a spinning worker takes the core from the frame's own calling thread and from other
-// programs (measured: 300 us spins made frames beside busy programs 1.37-1.70x slower than one
-// thread), so there the spin is kShortSpin: just the gap between the loops of one evaluation.
+// How long an idle worker spins before it sleeps. While a frame is being computed on an idle
+// machine: until the next loop, however long. A warm frame alternates parallel loops with serial
+// Cholesky solves (~0.15 ms each at 5k vertices, milliseconds at 50k): a worker that went to sleep
+// during a solve costs a futex wake-up and a scheduling delay at the next loop, about what that
+// loop gains on two cores (measured: with 20 us spins only, warm frames on an idle machine were
+// 1.01-1.07x the one-thread time). Otherwise (between frames, or on a busy machine) kShortSpin,
+// just the gap between the loops of one evaluation: on a busy machine a spinning worker takes the
+// core from the frame's own calling thread and from other programs (measured: 300 us spins made
+// frames beside busy programs 1.37-1.70x slower than one thread).
 constexpr auto kShortSpin = std::chrono::microseconds(20);
-constexpr auto kLongSpin = std::chrono::microseconds(1000);
 // Busy = more runnable threads than cores. Sampled by an awake worker every kSample from the
 // kernel's count of runnable threads (/proc/loadavg: one pread, a few us), this process's own
 // spinning or computing threads included; busy while the running mean of the excess over the cores
@@ -56,6 +56,7 @@ constexpr auto kBackOff = std::chrono::milliseconds(50);
 constexpr auto kSlack = std::chrono::microseconds(50);
 std::atomic<int64_t> serial_until{0};  // steady_clock ticks
 std::atomic<bool> busy{true};  // see kSample; until measured, the cautious guess
+std::atomic<int> computing{0};  // ThreadLimits alive that allow more than one thread: frames running
 
 int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
 template <class Duration>
@@ -91,7 +92,6 @@ class LoadProbe {
   detail::LoadMean verdict_;
 };
 
-std::chrono::microseconds worker_spin() { return busy.load(std::memory_order_relaxed) ? kShortSpin : kLongSpin; }
 
 // Spins up to `spin`, checking `ready` between pauses; true once it holds.
 template <class Ready>
@@ -167,9 +167,7 @@ class Pool {
     uint32_t seen = static_cast<uint32_t>(state_.load() >> 32);
     for (;;) {
       auto fresh = [&] { return static_cast<uint32_t>(state_.load() >> 32) != seen; };
-      const bool woke = spin_until(worker_spin(), fresh);
-      load.sample();
-      if (!woke) {
+      if (!wait_for_job(fresh, load)) {
         std::unique_lock<std::mutex> lock(m_);
         sleepers_.fetch_add(1);
         wake_.wait(lock, fresh);
@@ -177,6 +175,21 @@ class Pool {
       }
       seen = static_cast<uint32_t>(state_.load() >> 32);
       work(seen);
+    }
+  }
+
+  // Spins until `fresh` (true) or, unless a frame is being computed on an idle machine, for
+  // kShortSpin (false: go to sleep). Samples the load meanwhile.
+  template <class Fresh>
+  static bool wait_for_job(Fresh&& fresh, LoadProbe& load) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0;; ++k) {
+      if (fresh()) return true;
+      pause_cpu();
+      if ((k & 63) != 63) continue;
+      load.sample();
+      const bool keep = computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
+      if (!keep && std::chrono::steady_clock::now() - start > kShortSpin) return fresh();
     }
   }
 
@@ -267,8 +280,9 @@ const OmpDynamic& omp_dynamic() {
 }
 }  // namespace
 
-ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
+ThreadLimit::ThreadLimit(int threads) : saved_(limit), counted_(threads != 1) {
   limit = threads;
+  if (counted_) computing.fetch_add(1, std::memory_order_relaxed);
   const OmpDynamic& omp = omp_dynamic();
   if (omp.set && omp.get) {
     saved_dynamic_ = omp.get();
@@ -278,6 +292,7 @@ ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
 
 ThreadLimit::~ThreadLimit() {
   limit = saved_;
+  if (counted_) computing.fetch_sub(1, std::memory_order_relaxed);
   const OmpDynamic& omp = omp_dynamic();
   if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
 }

@@ -1,6 +1,6 @@
 // Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
-// chunks run by a small pool of its own (std::thread; idle workers spin 1 ms while the machine is
-// idle, 20 us while it is busy, then sleep), except inside Interpolator::frames(), which already
+// chunks run by a small pool of its own (std::thread; idle workers spin through a frame while the
+// machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
 // solves one frame per core.
 //
 // Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
@@ -68,8 +68,9 @@ void for_each(int chunks, long n, Body&& body) {
   });
 }
 
-// While alive, loops started on this thread use at most `threads` chunks (0: no limit), and
-// OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
+// While alive, loops started on this thread use at most `threads` chunks (0: no limit); with more
+// than one allowed, the pool's idle workers keep spinning between loops while the machine is idle
+// (a frame is being computed: the next loop follows within milliseconds); and OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
 // for when the machine is busy (omp_set_dynamic(1), if libgomp is loaded; restored afterwards).
 class ThreadLimit {
  public:
@@ -80,6 +81,7 @@ class ThreadLimit {
 
  private:
   int saved_;
+  bool counted_;            // counted among the frames being computed (threads != 1)
   int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
 };
 
