@@ -78,8 +78,8 @@ TEST(Parallel, NestedAndConcurrentRunsComplete) {
 }
 
 TEST(Parallel, IdleWorkersSleep) {
-  // After a loop, the workers spin for at most 1 ms (20 us on a busy machine), then block: 0.2 s of
-  // idling must cost the process (nearly) no CPU time. A pool that waits actively (OMP_WAIT_POLICY=active) would burn
+  // After a loop, the workers spin for ~20 us, then block: 0.2 s of idling must cost the process
+  // (nearly) no CPU time. A pool that waits actively (OMP_WAIT_POLICY=active) would burn
   // ~0.2 s per worker here; libgomp's default spins 300k rounds after every region.
   // First wait until the process is quiet: OpenBLAS (linked through CHOLMOD) starts its own threads,
   // which spin ~0.1 s after start-up (measured: 0.10 s of CPU in the first 0.2 s) before they sleep.
@@ -90,7 +90,17 @@ TEST(Parallel, IdleWorkersSleep) {
   }
   std::vector<double> x(100000, 1.0);
   parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
-  const double before = cpu_seconds();
+  double before = cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_LT(cpu_seconds() - before, 0.02);
+  // Likewise after a frame: inside a ThreadLimit (as every Interpolator call) idle workers of an
+  // idle machine spin until the next loop, but not once the frame is over.
+  {
+    const parallel::ThreadLimit frame(0);
+    for (int k = 0; k < 3; ++k)
+      parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
+  }
+  before = cpu_seconds();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_LT(cpu_seconds() - before, 0.02);
 }
