@@ -69,7 +69,7 @@ class NewtonDriver {
     s_.policy.chord_attempt(cg);
     last_cg_ = cg;
     evaluate_trial(1.0, false);
-    if (!(std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * r)) return false;
+    if (!trial_halves_residual()) return false;
     accept_trial();
     ++rep_.chord_steps;
     if (s_.policy.chord_accepted(cg)) {  // refresh the aging factor for the solves to come
@@ -84,27 +84,31 @@ class NewtonDriver {
   // Below the tolerance: a full Newton step with a fresh factorisation, kept only if it halves the
   // residual (no line search: the iterate is already acceptable). Returns whether it was kept.
   bool refining_newton_step() {
+    fresh_factorization();
+    descent_direction();
+    evaluate_trial(1.0, false);
+    if (!trial_halves_residual()) return false;
+    accept_trial();
+    return true;
+  }
+
+  // Factorises the Hessian at u (for this step and chord steps after it).
+  void fresh_factorization() {
     ensure_hessian();
     s_.factorize_with_shift();
     s_.policy.refactorised();
     s_.factor_reusable = true;
     ++rep_.factorizations;
-    const double r = s_.cur.residual;
-    descent_direction();
-    evaluate_trial(1.0, false);
-    if (!(std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * r)) return false;
-    accept_trial();
-    return true;
+  }
+
+  bool trial_halves_residual() const {
+    return std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * s_.cur.residual;
   }
 
   // A Newton step with a fresh factorisation at u and a line search; returns whether chord steps
   // with the new factor should follow.
   bool newton_step() {
-    ensure_hessian();
-    s_.factorize_with_shift();
-    s_.policy.refactorised();
-    s_.factor_reusable = true;
-    ++rep_.factorizations;
+    fresh_factorization();
     const double r = s_.cur.residual, slope = descent_direction();
     const double step = line_search(slope);
     if (step == 1.0) s_.policy.full_newton_step(r, s_.trial.residual);
@@ -136,7 +140,7 @@ class NewtonDriver {
   double line_search(double slope) {
     for (double s = 1.0;; s *= 0.5) {
       evaluate_trial(s, false);
-      bool accept = std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * s_.cur.residual;
+      bool accept = trial_halves_residual();
       if (!accept && std::isfinite(s_.trial.residual)) {
         if (!s_.cur.has_energy) s_.evaluate(l2_, u_, true, false, s_.cur);
         evaluate_trial(s, true);
