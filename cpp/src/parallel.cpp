@@ -46,8 +46,10 @@ constexpr auto kShortSpin = std::chrono::microseconds(20);
 // kernel's count of runnable threads (/proc/loadavg: one pread, a few us), this process's own
 // spinning or computing threads included; busy while the running mean of the excess over the cores
 // (the last ~4 samples) is at least 0.5, so a program that runs for a moment does not count. A
-// competitor that starts or stops is noticed within ~30 ms of frames.
+// competitor that starts or stops is noticed within ~30 ms of frames; after a second without
+// frames the verdict goes back to busy until measured again.
 constexpr auto kSample = std::chrono::milliseconds(10);
+constexpr auto kStale = std::chrono::seconds(1);
 // When the caller waited for a chunk that a worker had claimed longer than its own chunks took
 // (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk (a busy
 // machine): for kBackOff, callers run all chunks themselves (the same chunks and partial sums, so
@@ -86,12 +88,17 @@ class LoadProbe {
     last_ = now;
     busy.store(verdict_.add(detail::runnable_threads(), cores()), std::memory_order_relaxed);
   }
+  // After a sleep of over kStale the last verdict is old news: back to the cautious guess.
+  void slept(int64_t ticks_asleep) {
+    if (ticks_asleep <= ticks_of(kStale)) return;
+    verdict_ = detail::LoadMean();
+    busy.store(true, std::memory_order_relaxed);
+  }
 
  private:
   int64_t last_ = 0;
   detail::LoadMean verdict_;
 };
-
 
 // Spins up to `spin`, checking `ready` between pauses; true once it holds.
 template <class Ready>
@@ -168,10 +175,12 @@ class Pool {
     for (;;) {
       auto fresh = [&] { return static_cast<uint32_t>(state_.load() >> 32) != seen; };
       if (!wait_for_job(fresh, load)) {
+        const int64_t asleep = ticks();
         std::unique_lock<std::mutex> lock(m_);
         sleepers_.fetch_add(1);
         wake_.wait(lock, fresh);
         sleepers_.fetch_sub(1);
+        load.slept(ticks() - asleep);
       }
       seen = static_cast<uint32_t>(state_.load() >> 32);
       work(seen);
@@ -188,7 +197,8 @@ class Pool {
       pause_cpu();
       if ((k & 63) != 63) continue;
       load.sample();
-      const bool keep = computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
+      const bool keep =
+          computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
       if (!keep && std::chrono::steady_clock::now() - start > kShortSpin) return fresh();
     }
   }
