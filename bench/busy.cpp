@@ -1,5 +1,7 @@
 #include "busy.h"
 
+#include "bdinterp/parallel.h"
+
 #include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -90,8 +92,8 @@ struct Condition {
 void print_busy_rows(const std::vector<int>& sizes, int reps, const MakeInterpolator& make) {
   std::printf("\nBusy machine (ms per frame, medians of %d interleaved runs; ratio = default / threads=1;"
               " target <= 1.3 when busy, < 1 idle)\n", reps);
-  std::printf("%9s  %-26s %9s %9s %7s %11s %11s %7s\n", "vertices", "competing", "warm", "warm_t1", "ratio",
-              "bake/frame", "bake_t1", "ratio");
+  std::printf("%9s  %-26s %9s %9s %7s %11s %11s %7s %10s\n", "vertices", "competing", "warm", "warm_t1", "ratio",
+              "bake/frame", "bake_t1", "ratio", "pool_busy");
   const Condition conditions[] = {{"none (idle)", 0, 0}, {"1 busy loop", 1, 0}, {"3 busy loops", 3, 0},
                                   {"bdinterp, default threads", 0, 5000}};
   for (int n : sizes) {
@@ -103,11 +105,13 @@ void print_busy_rows(const std::vector<int>& sizes, int reps, const MakeInterpol
       const std::vector<pid_t> pids = start(c.busy, c.compete);
       usleep(200000);  // let the competitors get going
       std::vector<double> warm[2], bake[2];
+      int judged_busy = 0;  // default-thread runs after which the pool judged the machine busy
       for (int r = 0; r < reps; ++r) {
         for (int one = 0; one < 2; ++one) {
           I->set_threads(one);
           warm_ms(*I, slider, 3);  // back on the slider after a bake (not timed)
           warm[one].push_back(warm_ms(*I, slider, frames));
+          if (one == 0) judged_busy += bdinterp::parallel::machine_busy();
           if (n <= 20000) bake[one].push_back(bake_ms(*I));
         }
       }
@@ -115,8 +119,8 @@ void print_busy_rows(const std::vector<int>& sizes, int reps, const MakeInterpol
       stop(pids);
       const double w0 = median(warm[0]), w1 = median(warm[1]);
       const double b0 = bake[0].empty() ? NAN : median(bake[0]), b1 = bake[1].empty() ? NAN : median(bake[1]);
-      std::printf("%9d  %-26s %9.3f %9.3f %7.2f %11.3f %11.3f %7.2f\n", I->num_vertices(), c.name, w0, w1,
-                  w0 / w1, b0, b1, b0 / b1);
+      std::printf("%9d  %-26s %9.3f %9.3f %7.2f %11.3f %11.3f %7.2f %9.0f%%\n", I->num_vertices(), c.name, w0, w1,
+                  w0 / w1, b0, b1, b0 / b1, 100.0 * judged_busy / reps);
       std::fflush(stdout);
     }
   }

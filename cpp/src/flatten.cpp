@@ -13,6 +13,11 @@ void validate(const FlattenOptions& o) {
     s << "flatten options: tolerance must be finite and >= 0 (got " << o.tolerance << ")";
     throw InvalidInput(s.str());
   }
+  if (!(o.refinement >= 0 && o.refinement <= 1)) {
+    std::ostringstream s;
+    s << "flatten options: refinement must be in [0, 1] (got " << o.refinement << ")";
+    throw InvalidInput(s.str());
+  }
   if (o.max_iterations < 0) {
     throw InvalidInput("flatten options: max_iterations must be >= 0 (got " + std::to_string(o.max_iterations) +
                        ")");

@@ -1,8 +1,10 @@
 // The Newton driver of the flattening: from the iterate u, repeat until the residual (max |2 pi -
-// angle sum|) is below the tolerance:
+// angle sum|) is below the aim, tolerance * refinement:
 //   - a chord step when the cost model prefers it: the Newton step at u solved by CG preconditioned
 //     with an earlier factorisation, accepted if it halves the residual;
 //   - otherwise a Newton step with a fresh factorisation and a line search on the energy.
+// Missing the tolerance is an error; between tolerance and aim the solve only refines, and ends at
+// the first step that does not halve the residual (roundoff) instead of failing.
 // `cur` always describes u; candidates are evaluated into `trial` and swapped in when accepted.
 #include <cfloat>
 #include <cmath>
@@ -30,11 +32,22 @@ class NewtonDriver {
     s_.trial_u = u_;
     // Chord steps first when an earlier factorisation is at hand (the previous frame's).
     bool chord = opt_.reuse_factorization && s_.factor_reusable;
-    while (n_ > 0 && s_.cur.residual > opt_.tolerance) {
-      if (rep_.iterations >= opt_.max_iterations)
+    while (n_ > 0 && s_.cur.residual > aim_) {
+      // Below the tolerance the solve only refines: it ends, without error, at the first step that
+      // does not halve the residual (roundoff) or at the step limit.
+      const bool refining = s_.cur.residual <= opt_.tolerance;
+      if (rep_.iterations >= opt_.max_iterations) {
+        if (refining) break;
         fail("flattening did not converge in " + std::to_string(opt_.max_iterations) + " Newton steps");
+      }
       ++rep_.iterations;
-      if (chord && chord_step(chord)) continue;
+      const bool try_chord = chord || (refining && opt_.reuse_factorization && s_.factor_reusable);
+      if (try_chord && chord_step(chord)) continue;
+      if (refining) {
+        // A chord step whose linear solve converged failed on roundoff: a new factor cannot help.
+        if ((try_chord && last_cg_ < kMaxCgIterations) || !refining_newton_step()) break;
+        continue;
+      }
       chord = newton_step();
     }
     rep_.residual = s_.cur.residual;
@@ -47,15 +60,16 @@ class NewtonDriver {
   bool chord_step(bool& keep) {
     ensure_hessian();
     const double r = s_.cur.residual;
-    // Inexact Newton: the linear residual need only be small next to the tolerance and to the
+    // Inexact Newton: the linear residual need only be small next to the aim and to the
     // quadratic error term; solving further costs solves without improving the accepted step.
-    const double eta = std::max(0.5 * opt_.tolerance, std::min(1e-3 * r, 0.1 * r * r));
+    const double eta = std::max(0.5 * aim_, std::min(1e-3 * r, 0.1 * r * r));
     s_.rhs = -s_.cur.defect.head(n_);
     const int cg = detail::preconditioned_cg(*s_.factor, s_.hessian.data(), s_.rhs, eta, kMaxCgIterations,
                                              s_.step, s_.pcg);
     s_.policy.chord_attempt(cg);
+    last_cg_ = cg;
     evaluate_trial(1.0, false);
-    if (!(std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * r)) return false;
+    if (!trial_halves_residual()) return false;
     accept_trial();
     ++rep_.chord_steps;
     if (s_.policy.chord_accepted(cg)) {  // refresh the aging factor for the solves to come
@@ -63,25 +77,45 @@ class NewtonDriver {
       s_.policy.refactorised();
       ++rep_.factorizations;
     }
-    keep = s_.policy.prefer_chord(s_.cur.residual, opt_.tolerance, s_.cur.residual / r);
+    keep = s_.policy.prefer_chord(s_.cur.residual, aim_, s_.cur.residual / r);
     return true;
   }
 
-  // A Newton step with a fresh factorisation at u and a line search; returns whether chord steps
-  // with the new factor should follow.
-  bool newton_step() {
+  // Below the tolerance: a full Newton step with a fresh factorisation, kept only if it halves the
+  // residual (no line search: the iterate is already acceptable). Returns whether it was kept.
+  bool refining_newton_step() {
+    fresh_factorization();
+    descent_direction();
+    evaluate_trial(1.0, false);
+    if (!trial_halves_residual()) return false;
+    accept_trial();
+    return true;
+  }
+
+  // Factorises the Hessian at u (for this step and chord steps after it).
+  void fresh_factorization() {
     ensure_hessian();
     s_.factorize_with_shift();
     s_.policy.refactorised();
     s_.factor_reusable = true;
     ++rep_.factorizations;
+  }
+
+  bool trial_halves_residual() const {
+    return std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * s_.cur.residual;
+  }
+
+  // A Newton step with a fresh factorisation at u and a line search; returns whether chord steps
+  // with the new factor should follow.
+  bool newton_step() {
+    fresh_factorization();
     const double r = s_.cur.residual, slope = descent_direction();
     const double step = line_search(slope);
     if (step == 1.0) s_.policy.full_newton_step(r, s_.trial.residual);
     accept_trial();
     // Chord steps with this factor contract about as much as this Newton step did.
-    return opt_.reuse_factorization && step == 1.0 && s_.cur.residual > opt_.tolerance &&
-           s_.policy.prefer_chord(s_.cur.residual, opt_.tolerance, s_.cur.residual / r);
+    return opt_.reuse_factorization && step == 1.0 && s_.cur.residual > aim_ &&
+           s_.policy.prefer_chord(s_.cur.residual, aim_, s_.cur.residual / r);
   }
 
   // The Newton direction into s_.step (capped), or steepest descent where the Hessian is
@@ -106,7 +140,7 @@ class NewtonDriver {
   double line_search(double slope) {
     for (double s = 1.0;; s *= 0.5) {
       evaluate_trial(s, false);
-      bool accept = std::isfinite(s_.trial.residual) && s_.trial.residual <= 0.5 * s_.cur.residual;
+      bool accept = trial_halves_residual();
       if (!accept && std::isfinite(s_.trial.residual)) {
         if (!s_.cur.has_energy) s_.evaluate(l2_, u_, true, false, s_.cur);
         evaluate_trial(s, true);
@@ -152,7 +186,9 @@ class NewtonDriver {
   Eigen::VectorXd& u_;
   const FlattenOptions& opt_;
   const int n_;
+  const double aim_ = opt_.tolerance * opt_.refinement;  // where the steps stop
   FlattenReport rep_;
+  int last_cg_ = 0;  // CG iterations of the last chord step
 };
 
 }  // namespace

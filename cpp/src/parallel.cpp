@@ -2,12 +2,15 @@
 
 #include <dlfcn.h>
 #include <pthread.h>
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <cstdio>
 #include <mutex>
 #include <thread>
 
@@ -29,11 +32,24 @@ inline void pause_cpu() {
 // Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
 // 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
 constexpr long kMinItems = 2000;
-// How long an idle worker (or a caller waiting for the last chunk) spins before it sleeps. The loops
-// of one evaluation follow each other within microseconds, so a short spin catches the next loop
-// without a futex wake-up; a Cholesky solve between evaluations takes milliseconds, during which
-// a spinning thread would only take the core from other programs.
-constexpr auto kSpin = std::chrono::microseconds(20);
+// How long an idle worker spins before it sleeps. While a frame is being computed on an idle
+// machine: until the next loop, however long. A warm frame alternates parallel loops with serial
+// Cholesky solves (~0.15 ms each at 5k vertices, milliseconds at 50k): a worker that went to sleep
+// during a solve costs a futex wake-up and a scheduling delay at the next loop, about what that
+// loop gains on two cores (measured: with 20 us spins only, warm frames on an idle machine were
+// 1.01-1.07x the one-thread time). Otherwise (between frames, or on a busy machine) kShortSpin,
+// just the gap between the loops of one evaluation: on a busy machine a spinning worker takes the
+// core from the frame's own calling thread and from other programs (measured: 300 us spins made
+// frames beside busy programs 1.37-1.70x slower than one thread).
+constexpr auto kShortSpin = std::chrono::microseconds(20);
+// Busy = more runnable threads than cores. Sampled by an awake worker every kSample from the
+// kernel's count of runnable threads (/proc/loadavg: one pread, a few us), this process's own
+// spinning or computing threads included; busy while the running mean of the excess over the cores
+// (the last ~4 samples) is at least 0.5, so a program that runs for a moment does not count. A
+// competitor that starts or stops is noticed within ~30 ms of frames; after a second without
+// frames the verdict goes back to busy until measured again.
+constexpr auto kSample = std::chrono::milliseconds(10);
+constexpr auto kStale = std::chrono::seconds(1);
 // When the caller waited for a chunk that a worker had claimed longer than its own chunks took
 // (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk (a busy
 // machine): for kBackOff, callers run all chunks themselves (the same chunks and partial sums, so
@@ -41,6 +57,8 @@ constexpr auto kSpin = std::chrono::microseconds(20);
 constexpr auto kBackOff = std::chrono::milliseconds(50);
 constexpr auto kSlack = std::chrono::microseconds(50);
 std::atomic<int64_t> serial_until{0};  // steady_clock ticks
+std::atomic<bool> busy{true};  // see kSample; until measured, the cautious guess
+std::atomic<int> computing{0};  // ThreadLimits alive that allow more than one thread: frames running
 
 int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
 template <class Duration>
@@ -61,10 +79,31 @@ int cores() {
   return n;
 }
 
-// Spins up to kSpin, checking `ready` between pauses; true once it holds.
+// One worker's view of the machine's load (see kSample); call sample() whenever awake.
+class LoadProbe {
+ public:
+  void sample() {
+    const int64_t now = ticks();
+    if (now - last_ < ticks_of(kSample)) return;
+    last_ = now;
+    busy.store(verdict_.add(detail::runnable_threads(), cores()), std::memory_order_relaxed);
+  }
+  // After a sleep of over kStale the last verdict is old news: back to the cautious guess.
+  void slept(int64_t ticks_asleep) {
+    if (ticks_asleep <= ticks_of(kStale)) return;
+    verdict_ = detail::LoadMean();
+    busy.store(true, std::memory_order_relaxed);
+  }
+
+ private:
+  int64_t last_ = 0;
+  detail::LoadMean verdict_;
+};
+
+// Spins up to `spin`, checking `ready` between pauses; true once it holds.
 template <class Ready>
-bool spin_until(Ready&& ready) {
-  const auto until = std::chrono::steady_clock::now() + kSpin;
+bool spin_until(std::chrono::microseconds spin, Ready&& ready) {
+  const auto until = std::chrono::steady_clock::now() + spin;
   for (int k = 0;; ++k) {
     if (ready()) return true;
     pause_cpu();
@@ -100,7 +139,7 @@ class Pool {
     const int64_t t0 = ticks();
     work(static_cast<uint32_t>(gen));
     const int64_t t1 = ticks();
-    if (!spin_until([&] { return done_.load(std::memory_order_acquire) == chunks; })) {
+    if (!spin_until(kShortSpin, [&] { return done_.load(std::memory_order_acquire) == chunks; })) {
       std::unique_lock<std::mutex> lock(m_);
       caller_waiting_ = true;
       finished_.wait(lock, [&] { return done_.load() == chunks; });
@@ -131,17 +170,36 @@ class Pool {
 
   void worker() {
     inside = true;
+    LoadProbe load;
     uint32_t seen = static_cast<uint32_t>(state_.load() >> 32);
     for (;;) {
       auto fresh = [&] { return static_cast<uint32_t>(state_.load() >> 32) != seen; };
-      if (!spin_until(fresh)) {
+      if (!wait_for_job(fresh, load)) {
+        const int64_t asleep = ticks();
         std::unique_lock<std::mutex> lock(m_);
         sleepers_.fetch_add(1);
         wake_.wait(lock, fresh);
         sleepers_.fetch_sub(1);
+        load.slept(ticks() - asleep);
       }
       seen = static_cast<uint32_t>(state_.load() >> 32);
       work(seen);
+    }
+  }
+
+  // Spins until `fresh` (true) or, unless a frame is being computed on an idle machine, for
+  // kShortSpin (false: go to sleep). Samples the load meanwhile.
+  template <class Fresh>
+  static bool wait_for_job(Fresh&& fresh, LoadProbe& load) {
+    const auto start = std::chrono::steady_clock::now();
+    for (int k = 0;; ++k) {
+      if (fresh()) return true;
+      pause_cpu();
+      if ((k & 63) != 63) continue;
+      load.sample();
+      const bool keep =
+          computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
+      if (!keep && std::chrono::steady_clock::now() - start > kShortSpin) return fresh();
     }
   }
 
@@ -164,6 +222,26 @@ class Pool {
 };
 
 }  // namespace
+
+bool machine_busy() { return busy.load(std::memory_order_relaxed); }
+
+int detail::runnable_threads() {
+  static const int fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
+  char buf[128];
+  const ssize_t n = fd < 0 ? -1 : pread(fd, buf, sizeof buf - 1, 0);
+  if (n <= 0) return -1;
+  buf[n] = 0;
+  int running = -1;
+  // "0.52 0.58 0.59 3/245 12345": the fourth field is runnable/total.
+  return std::sscanf(buf, "%*s %*s %*s %d/", &running) == 1 ? running : -1;
+}
+
+bool detail::LoadMean::add(int runnable, int cores) {
+  // Without the count, assume busy: short spins are the cautious choice.
+  const double excess = runnable < 0 ? 1.0 : std::max(0, runnable - cores);
+  mean_ = 0.75 * mean_ + 0.25 * excess;
+  return mean_ >= 0.5;
+}
 
 int loop_threads(long items) {
   if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
@@ -212,8 +290,9 @@ const OmpDynamic& omp_dynamic() {
 }
 }  // namespace
 
-ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
+ThreadLimit::ThreadLimit(int threads) : saved_(limit), counted_(threads != 1) {
   limit = threads;
+  if (counted_) computing.fetch_add(1, std::memory_order_relaxed);
   const OmpDynamic& omp = omp_dynamic();
   if (omp.set && omp.get) {
     saved_dynamic_ = omp.get();
@@ -223,6 +302,7 @@ ThreadLimit::ThreadLimit(int threads) : saved_(limit) {
 
 ThreadLimit::~ThreadLimit() {
   limit = saved_;
+  if (counted_) computing.fetch_sub(1, std::memory_order_relaxed);
   const OmpDynamic& omp = omp_dynamic();
   if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
 }

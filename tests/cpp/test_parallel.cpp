@@ -78,8 +78,8 @@ TEST(Parallel, NestedAndConcurrentRunsComplete) {
 }
 
 TEST(Parallel, IdleWorkersSleep) {
-  // After a loop, the workers spin for at most ~20 us, then block: 0.2 s of idling must cost the
-  // process (nearly) no CPU time. A pool that waits actively (OMP_WAIT_POLICY=active) would burn
+  // After a loop, the workers spin for ~20 us, then block: 0.2 s of idling must cost the process
+  // (nearly) no CPU time. A pool that waits actively (OMP_WAIT_POLICY=active) would burn
   // ~0.2 s per worker here; libgomp's default spins 300k rounds after every region.
   // First wait until the process is quiet: OpenBLAS (linked through CHOLMOD) starts its own threads,
   // which spin ~0.1 s after start-up (measured: 0.10 s of CPU in the first 0.2 s) before they sleep.
@@ -90,9 +90,64 @@ TEST(Parallel, IdleWorkersSleep) {
   }
   std::vector<double> x(100000, 1.0);
   parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
-  const double before = cpu_seconds();
+  double before = cpu_seconds();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_LT(cpu_seconds() - before, 0.02);
+  // Likewise after a frame: inside a ThreadLimit (as every Interpolator call) idle workers of an
+  // idle machine spin until the next loop, but not once the frame is over.
+  {
+    const parallel::ThreadLimit frame(0);
+    for (int k = 0; k < 3; ++k)
+      parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
+  }
+  before = cpu_seconds();
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  EXPECT_LT(cpu_seconds() - before, 0.02);
+}
+
+TEST(Parallel, CompetingThreadsAreCounted) {
+  // cores + 1 spinning threads of this process: the kernel's runnable count must include them (and
+  // this thread), so the pool sees a busy machine.
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> competitors;
+  for (int k = 0; k <= cores; ++k)
+    competitors.emplace_back([&] {
+      while (!stop.load(std::memory_order_relaxed)) {
+      }
+    });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  int most = 0;
+  for (int k = 0; k < 20; ++k) {
+    most = std::max(most, parallel::detail::runnable_threads());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  stop = true;
+  for (auto& t : competitors) t.join();
+  EXPECT_GE(most, cores + 2);
+  parallel::detail::LoadMean verdict;
+  EXPECT_TRUE(verdict.add(most, cores));
+}
+
+TEST(Parallel, BusyVerdictFollowsTheExcessOverTheCores) {
+  parallel::detail::LoadMean m;  // starts busy (mean 1)
+  EXPECT_TRUE(m.add(2, 2));      // mean 0.75
+  EXPECT_TRUE(m.add(1, 2));      // 0.56
+  EXPECT_FALSE(m.add(2, 2));     // 0.42: this process alone (worker + caller) is not busy
+  for (int k = 0; k < 20; ++k) EXPECT_FALSE(m.add(2, 2));
+  // A competitor for one sample or two (a program that runs for a moment) does not count ...
+  EXPECT_FALSE(m.add(3, 2));  // 0.25
+  EXPECT_FALSE(m.add(3, 2));  // 0.44
+  EXPECT_TRUE(m.add(3, 2));   // 0.58: ... from the third sample on it does
+  EXPECT_TRUE(m.add(5, 2));   // 1.19: three busy loops
+  EXPECT_TRUE(m.add(2, 2));   // 0.89
+  EXPECT_TRUE(m.add(2, 2));   // 0.67
+  EXPECT_FALSE(m.add(2, 2));  // 0.4995: idle again
+  parallel::detail::LoadMean unknown;
+  for (int k = 0; k < 20; ++k) EXPECT_TRUE(unknown.add(-1, 2));  // no count: cautious
+  parallel::detail::LoadMean many;  // 16 cores, 12 threads running: not busy
+  for (int k = 0; k < 3; ++k) many.add(12, 16);
+  EXPECT_FALSE(many.add(12, 16));
 }
 
 TEST(Parallel, SmallLoopsAndLimitsStaySerial) {

@@ -20,7 +20,14 @@
 namespace bdinterp {
 
 struct FlattenOptions {
-  double tolerance = 1e-10;  // stop when max |2pi - angle sum| over interior vertices <= tolerance
+  double tolerance = 1e-10;  // must reach max |2pi - angle sum| over interior vertices <= tolerance
+  // Then refine towards tolerance * refinement, as far as steps halve the residual (no error if
+  // they stop doing so first: roundoff). Why: positions move by up to ~2e-10 of the size per 1e-10
+  // of residual (5k vertices), so solves that stop anywhere below 1e-10 differ by that much
+  // depending on where they started (the previous frame); refined, frames after any history agree
+  // to ~1e-13 of the size. Costs 9-13 % more instructions per frame (docs/robustness.md). 1: stop at
+  // the tolerance.
+  double refinement = 1e-3;
   int max_iterations = 50;   // Newton steps before giving up with SolverError
   // Allow chord steps: Newton steps with the factorisation of an earlier iterate (of this solve or of
   // the previous solve on this Flattener) instead of a new one, while they contract fast enough.
@@ -28,7 +35,8 @@ struct FlattenOptions {
   bool reuse_factorization = true;
 };
 
-// Throws InvalidInput naming the field unless tolerance >= 0 (finite) and max_iterations >= 0.
+// Throws InvalidInput naming the field unless tolerance >= 0 (finite), refinement is in [0, 1] and
+// max_iterations >= 0.
 void validate(const FlattenOptions& options);
 
 struct FlattenReport {

@@ -50,10 +50,11 @@ struct FrameStats : FlattenReport {
   int fold_free_vertices = 0;
 };
 
-// No hidden state: a frame depends on its weights, not on the calls before it, up to the effect of
-// the flattening's tolerance on the positions (frames are solved from warm starts to within the
-// tolerance; measured: 3e-11 of the size with the default 1e-10, 1e-13 with 1e-12; see
-// docs/robustness.md). Frames whose flattening ends with broken triangles are solved cold.
+// No hidden state: a frame depends on its weights, not on the calls before it: with the default
+// options frames after any history equal a fresh Interpolator's to 1e-12 of the size (measured
+// 2e-14; the flattening refines below its tolerance, FlattenOptions::refinement), except where the
+// frame itself is that ill-conditioned (docs/robustness.md). Frames whose flattening ends with
+// broken triangles are solved cold.
 // Thread safety: every public member may be called from any thread; calls on one Interpolator are
 // serialised by a mutex of its own (one call at a time; frames() parallelises internally). From
 // Python the bindings release the GIL before taking it, so the two locks cannot deadlock.

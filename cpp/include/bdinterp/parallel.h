@@ -1,6 +1,7 @@
 // Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
-// chunks run by a small pool of its own (std::thread; workers spin for a few microseconds, then
-// sleep), except inside Interpolator::frames(), which already solves one frame per core.
+// chunks run by a small pool of its own (std::thread; idle workers spin through a frame while the
+// machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
+// solves one frame per core.
 //
 // Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
 // split made every loop wait for the thread that shared its core, and its threads spin while they
@@ -19,6 +20,10 @@ namespace bdinterp::parallel {
 // thread's limit. 1 in a child process after fork().
 int loop_threads(long items);
 
+// Whether the pool judges the machine busy (more runnable threads than cores, sampled by its awake
+// workers; true until they have measured): its idle workers then spin only briefly. Diagnostics.
+bool machine_busy();
+
 // The contiguous share [first, second) of chunk `chunk` out of `chunks` of n iterations (the
 // split of OpenMP's schedule(static): the first n % chunks chunks get one iteration more).
 std::pair<long, long> share(long n, int chunk, int chunks);
@@ -26,6 +31,19 @@ std::pair<long, long> share(long n, int chunk, int chunks);
 namespace detail {
 using ChunkFn = void (*)(void* context, int chunk);
 void run(int chunks, ChunkFn fn, void* context);
+// Runnable threads on the machine now (the kernel's count from /proc/loadavg, the caller
+// included), or -1 if unknown.
+int runnable_threads();
+// The busy verdict from successive samples of runnable_threads(): the running mean (weights 1/4 on
+// the newest) of the excess of runnable threads over the cores is at least 0.5. Starts as busy
+// (mean 1); an unknown count (-1) counts as an excess of 1.
+class LoadMean {
+ public:
+  bool add(int runnable, int cores);
+
+ private:
+  double mean_ = 1.0;
+};
 }  // namespace detail
 
 // Calls body(chunk) for chunk = 0 .. chunks-1, on the calling thread and the pool's workers, and
@@ -50,8 +68,9 @@ void for_each(int chunks, long n, Body&& body) {
   });
 }
 
-// While alive, loops started on this thread use at most `threads` chunks (0: no limit), and
-// OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
+// While alive, loops started on this thread use at most `threads` chunks (0: no limit); with more
+// than one allowed, the pool's idle workers keep spinning between loops while the machine is idle
+// (a frame is being computed: the next loop follows within milliseconds); and OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
 // for when the machine is busy (omp_set_dynamic(1), if libgomp is loaded; restored afterwards).
 class ThreadLimit {
  public:
@@ -62,6 +81,7 @@ class ThreadLimit {
 
  private:
   int saved_;
+  bool counted_;            // counted among the frames being computed (threads != 1)
   int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
 };
 
