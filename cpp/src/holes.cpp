@@ -14,15 +14,11 @@
 
 namespace bdinterp {
 namespace {
-constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
 // Closing the holes' periods: at most this many Newton steps on the dipoles, until every period
-// (relative to the loop's length) is below the flattening's tolerance (the angle residual limits
+// (relative to the loop's length) is below tolerance * refinement, as far as they halve (the angle residual limits
 // the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
-// Chord steps (the last factorisation) are tried below this residual: at 14.7k vertices they cut
-// the factorisations of an 11-frame sweep through a Moebius pair from 88 to 8.
-constexpr double kChordResidual = 1e-2;
 
 // Lower-triangle compressed-column pattern of a symmetric matrix over n unknowns with the given
 // off-diagonal pairs; position(i, j) finds an entry.
@@ -225,86 +221,6 @@ Eigen::VectorXd HoleSolver::gradient(const Eigen::VectorXd& l2, const Eigen::Vec
   return grad_;
 }
 
-void HoleSolver::newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
-                        FlattenReport& fr) const {
-  const int nv = mesh_->num_vertices();
-  int broken = 0;
-  auto residual = [&] { return n_ ? grad_.cwiseAbs().maxCoeff() : 0.0; };
-  // The energy (Lobachevsky's function per corner: most of an evaluation's cost) only when a line
-  // search needs it; steps that halve the residual are taken without it.
-  constexpr double kUnknown = std::numeric_limits<double>::quiet_NaN();
-  double energy = kUnknown;
-  evaluate(l2, u, false, n_ > 0, &broken);
-  fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
-  Eigen::VectorXd step(n_), trial(nv);
-  for (int steps = 0; residual() > options.tolerance; ++steps) {
-    if (steps >= options.max_iterations) {
-      std::ostringstream s;
-      s << "flattening (piece with holes) did not converge in " << options.max_iterations
-        << " Newton steps (residual " << residual() << ")";
-      throw SolverError(s.str());
-    }
-    ++fr.iterations;
-    const double r0 = residual();
-    if (factored_ && r0 < kChordResidual) {
-      // A chord step with the last factorisation (the dipoles' finite differences and the next
-      // frame start next to it); kept only if it contracts the residual 4x (slower chords cost more
-      // steps than a factorisation saves).
-      step = -grad_;
-      chol_->solve(step.data(), step.data());
-      for (int v = 0; v < nv; ++v) trial[v] = unknown_[v] < 0 ? 0.0 : u[v] + step[unknown_[v]];
-      const Eigen::VectorXd g0 = grad_;
-      evaluate(l2, trial, false, true, &broken);
-      if (residual() <= 0.25 * r0) {  // NaN fails
-        energy = kUnknown;
-        u.swap(trial);
-        ++fr.chord_steps;
-        fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
-        continue;
-      }
-      grad_ = g0;
-      evaluate(l2, u, false, true, &broken);  // the Hessian at u again
-    }
-    std::copy(hvals_.begin(), hvals_.end(), chol_->values());
-    chol_->factorize();
-    factored_ = true;
-    ++fr.factorizations;
-    step = -grad_;
-    chol_->solve(step.data(), step.data());
-    const double longest = step.cwiseAbs().maxCoeff();
-    if (longest > kMaxStep) step *= kMaxStep / longest;
-    const double slope = grad_.dot(step);
-    const Eigen::VectorXd g0 = grad_;
-    // Armijo on the convex energy; a step that halves the residual is taken without the energy test.
-    for (double s = 1.0;; s *= 0.5) {
-      if (s < 1e-12) throw SolverError("flattening (piece with holes): line search failed");
-      for (int v = 0; v < nv; ++v) trial[v] = unknown_[v] < 0 ? 0.0 : u[v] + s * step[unknown_[v]];
-      evaluate(l2, trial, false, true, &broken);
-      if (residual() <= 0.5 * r0) {
-        energy = kUnknown;
-        break;
-      }
-      if (std::isnan(energy)) {
-        const Eigen::VectorXd g = grad_;
-        energy = evaluate(l2, u, true, false, &broken);
-        grad_ = g;
-      }
-      const double e = evaluate(l2, trial, true, true, &broken);
-      if (std::isfinite(e) && (e <= energy + 1e-4 * s * slope ||
-                               (std::abs(s * slope) < 1e-13 * (std::abs(energy) + 1) && residual() < r0))) {
-        energy = e;
-        break;
-      }
-      ++fr.line_search_steps;
-      grad_ = g0;
-    }
-    u.swap(trial);
-    fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
-  }
-  fr.residual = residual();
-  fr.broken_triangles = broken;
-}
-
 void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
   for (int k = 0; k < num_holes(); ++k) {
     const std::vector<int>& loop = loops_[k];
@@ -369,7 +285,10 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   // rule; it is recomputed by finite differences when missing or when a step fails to halve the
   // periods.
   bool fresh = false;
-  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > options.tolerance; ++it) {
+  // Closed to tolerance * refinement like the flattening; the loop ends at the accuracy the periods
+  // allow (a fresh Jacobian's step that does not halve them).
+  const double aim = options.tolerance * options.refinement;
+  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
     if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, rep.flatten), fresh = true;
     const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
     ab += delta;

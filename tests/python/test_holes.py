@@ -140,3 +140,17 @@ def test_clockwise_faces_vertex_anchor_and_three_shape_blends_with_holes():
     X = I.blend([0.2, 0.4, 0.4])
     assert bdinterp.flipped_faces(V, X, F) == 0
     assert max(I.stats["hole_closure"]) <= 1e-9
+
+
+@pytest.mark.parametrize("mesh", MESHES)
+def test_frames_with_holes_do_not_depend_on_the_calls_before(mesh):
+    """Issue #11 at the default options on the holes' own solver (chord steps with the last
+    factorisation): jumps and 0.01 slider moves against fresh Interpolators, to 1e-12 of the size."""
+    V, F = MESHES[mesh](8)
+    T = targets(V)["swirl"]
+    size = np.ptp(V, axis=0).max()
+    rng = np.random.default_rng(5)
+    ts = list(rng.uniform(0, 1, 6)) + list(np.arange(0.30, 0.45, 0.01)) + [0.9, 0.0, 1.0]
+    I = bdinterp.Interpolator([V, T], F)
+    worst = max(np.abs(I.at(t) - bdinterp.Interpolator([V, T], F).at(t)).max() for t in ts) / size
+    assert worst < 1e-12

@@ -86,6 +86,9 @@ class HoleSolver {
   // The convex solve for the unknowns at fixed dipoles (u along each hole = its unknown + dipole).
   void newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
               FlattenReport& report) const;
+  // One line search of newton(); false at the roundoff floor below the tolerance (holes_newton.cpp).
+  bool line_search(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& step, double r0,
+                   bool refining, double& energy, Eigen::VectorXd& trial, int& broken, FlattenReport& fr) const;
   // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
   void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
