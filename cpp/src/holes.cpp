@@ -15,8 +15,8 @@
 namespace bdinterp {
 namespace {
 // Closing the holes' periods: at most this many Newton steps on the dipoles, until every period
-// (relative to the loop's length) is below tolerance * refinement, as far as they halve (the angle residual limits
-// the periods' accuracy to about that); the finite-difference step of the Jacobian.
+// (relative to the loop's length) is below tolerance * refinement or stops halving (the angle
+// residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
 
