@@ -37,6 +37,10 @@ struct FoldOptions {
   // neighbours along: K 53 % above the inputs' three rings from the folds (bar at n = 48, 160 deg),
   // 0.1 % with 0.2 (docs/FOLDS.md). The keys stay exact for any weight (zero energy there).
   double folded_weight = 0.2;
+  // Local-global steps after the fill's Poisson solve (docs/FOLDS.md): each face of R outside two
+  // vertex rings of the folds takes its Jacobian with K clamped to the inputs' largest as target,
+  // and the factorised system solves again. 0: the plain Poisson fill.
+  int fill_iterations = 20;
 };
 
 // The fold region of a set of inputs.
