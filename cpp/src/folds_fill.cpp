@@ -1,6 +1,7 @@
 // The fill of a fold region (folds.h): rotations lifted across the dual graph and extended
 // harmonically over R, separated parts turned by the blend of the inputs' rotations, one Poisson
-// solve for R's free vertices and those parts' translations. Reasoning: docs/FOLDS.md.
+// solve for R's free vertices and those parts' translations, local-global steps that clamp K.
+// Reasoning: docs/FOLDS.md.
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
 #include <algorithm>
@@ -339,10 +340,11 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   const Positions X0 = X;
   p.solve(region_, G, X0, X);
   // Local-global steps (docs/FOLDS.md): the least-squares fill does not reproduce targets that are
-  // not compatible, and its K exceeded the inputs' inside R (7.5 % on the body at n = 32). Each face
-  // away from the folds whose K is above its bound adds (times kOverRelax) the change that clamps it to its target
-  // (the targets move by the accumulated changes); the same factorisation solves again. Once no
-  // face is above its bound the solution is a fixed point, so stopping there changes nothing.
+  // not compatible, and its K exceeded the inputs' inside R (7.5 % on the body at n = 32). Each
+  // face away from the folds whose K is above its bound adds kOverRelax times the change that
+  // clamps it to its target (the targets keep the accumulated changes); the same factorisation
+  // solves again. Once no face is above its bound the solution is a fixed point: stopping there
+  // changes nothing, and at an input's weights no step changes anything.
   std::vector<Eigen::Matrix2d> target = G;
   for (int it = 0; it < p.iterations; ++it) {
     bool changed = false;

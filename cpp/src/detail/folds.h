@@ -92,8 +92,9 @@ inline Eigen::Matrix2d clamp_change(const Eigen::Matrix2d& J, double bound) {
 }
 
 // Per face (base_det: the determinant of each face's inverse base edge matrix): 1 for the faces of
-// R that no input folds, in a connected component of R (across edges) holding a face whose length blend inflates beyond options.inflation (a sheared, unfolded face).
-// Those keep the harmonic extension of the rotations instead of their own polar angle. With its
+// R that no input folds, in a connected component of R (across edges) holding a face whose length
+// blend inflates beyond options.inflation (a sheared, unfolded face). Those keep the harmonic
+// extension of the rotations instead of their own polar angle (folds_fill.cpp). With its
 // own, a sheared face's target (1 - t) I + t P (P its stretch: the symmetric polar factor) grows
 // by 0.5 + sqrt(s^2 + 4) / 4 at t = 1/2 (2.5 x at K = 60; measured 3.3 x); with the smooth
 // rotation, about 0, it is near the vertex blend (1 - t) I + t J, whose area is linear in t.
