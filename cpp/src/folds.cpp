@@ -161,4 +161,32 @@ FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, i
   return r;
 }
 
+// See detail/folds.h: the fill's sheared components (docs/FOLDS.md).
+std::vector<char> detail::smooth_faces(const Mesh& mesh, const std::vector<Positions>& shapes, const FoldRegion& region,
+                               const std::vector<double>& base_det, const FoldOptions& options) {
+  const Faces& F = mesh.faces();
+  std::vector<char> unfolded(F.rows(), 0), out(F.rows(), 0);
+  std::vector<int> comp(F.rows(), -1);
+  for (int f : region.faces) {
+    unfolded[f] = 1;
+    for (const Positions& X : shapes) unfolded[f] = unfolded[f] && doubled_area(X, F, f) * base_det[f] > 0;
+  }
+  for (int f0 : region.faces) {
+    if (comp[f0] >= 0) continue;
+    std::vector<int> members{f0};
+    comp[f0] = f0;
+    bool sheared = false;
+    for (size_t k = 0; k < members.size(); ++k) {
+      const int f = members[k];
+      sheared = sheared || (unfolded[f] && detail::blend_inflation(shapes, F, f) > options.inflation);
+      for (int c = 0; c < 3; ++c) {
+        const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
+        if (g >= 0 && region.in_region[g] && comp[g] < 0) comp[g] = f0, members.push_back(g);
+      }
+    }
+    for (int f : members) out[f] = sheared && unfolded[f];
+  }
+  return out;
+}
+
 }  // namespace bdinterp

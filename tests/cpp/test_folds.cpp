@@ -8,6 +8,7 @@
 #include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
 #include "bdinterp/interpolator.h"
+#include "../../cpp/src/detail/folds.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 
@@ -179,6 +180,24 @@ TEST(FoldRegion, FoldFreeInputsTakeTheUsualPath) {
   EXPECT_TRUE(with.folded_faces(1).empty());
   EXPECT_EQ(with.at(0.5), without.at(0.5));  // bit for bit
   EXPECT_EQ(with.last_stats().fold_faces, 0);
+}
+
+TEST(FoldFill, TheClampKeepsRotationAndAreaAndBringsKToTheBound) {
+  // J = R(0.7) U diag(3, 0.5) V^T (K = 6, det 1.5) clamped to K = 2: the singular values become
+  // sqrt(1.5) (sqrt 2, 1 / sqrt 2), the singular vectors (so the polar rotation) stay.
+  const Eigen::Matrix2d U = detail::rotation(0.3), V = detail::rotation(-1.1);
+  const Eigen::Matrix2d J = detail::rotation(0.7) * U * Eigen::Vector2d(3, 0.5).asDiagonal() * V.transpose();
+  const Eigen::Matrix2d C = J + detail::clamp_change(J, 2.0);
+  const Eigen::Matrix2d expected = detail::rotation(0.7) * U *
+                                   Eigen::Vector2d(std::sqrt(3.0), std::sqrt(0.75)).asDiagonal() * V.transpose();
+  EXPECT_LT((C - expected).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_NEAR(detail::distortion(C), 2.0, 1e-12);
+  EXPECT_NEAR(C.determinant(), J.determinant(), 1e-12);
+  EXPECT_NEAR(detail::polar_angle(C), detail::polar_angle(J), 1e-12);
+  EXPECT_NEAR(detail::distortion(J), 6.0, 1e-12);
+  // Within the bound nothing changes; just above it the change is small (continuous at the bound).
+  EXPECT_TRUE(detail::clamp_change(J, 6.5).isZero(0));
+  EXPECT_LT(detail::clamp_change(J, 6.0 * (1 - 1e-9)).norm(), 1e-8);
 }
 
 }  // namespace
