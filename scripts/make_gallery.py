@@ -34,7 +34,7 @@ sys.path.insert(0, os.path.join(ROOT, "tools"))
 import bdinterp  # noqa: E402
 from bdinterp import figures, io  # noqa: E402
 from bdinterp.cli import Progress  # noqa: E402
-from bdinterp_tools import convergence  # noqa: E402
+from bdinterp_tools import convergence, meshes  # noqa: E402
 
 TS = np.linspace(0.0, 1.0, 21)
 PICTURED_T = {"spiral": 0.75}
@@ -62,17 +62,10 @@ def examples(names):
 
 
 def away_from_folds(X0, X1, F, rings=2):
-    """Boolean (m,) mask of the faces outside a `rings`-face neighbourhood (faces sharing a
-    vertex, repeated) of the target's folded faces, or None when none folds: where issue #10
-    asks a folded pair to behave like a valid one."""
-    near = bdinterp.area_ratio(X0, X1, F) <= 0
-    if not near.any():
-        return None
-    for _ in range(rings):
-        touched = np.zeros(len(X0), bool)
-        touched[F[near]] = True
-        near = touched[F].any(axis=1)
-    return ~near
+    """Boolean (m,) mask of the faces outside a `rings`-face neighbourhood of the target's folded
+    faces, or None when none folds: where issue #10 asks a folded pair to behave like a valid one."""
+    folded = bdinterp.area_ratio(X0, X1, F) <= 0
+    return ~meshes.near_faces(F, folded, rings) if folded.any() else None
 
 
 def numbers(X0, X1, F, result):

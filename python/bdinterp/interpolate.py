@@ -139,7 +139,9 @@ class Interpolator:
         (and keys) iterations, residual (max |2 pi - angle sum|), broken_triangles,
         max_broken_triangles, line_search_steps, flatness, pieces, factorizations, chord_steps,
         seconds, converged (the self-check passed), warnings (why not), hole_closure (per hole:
-        the translation period of the flat metric around it relative to the hole's perimeter)."""
+        the translation period of the flat metric around it relative to the hole's perimeter),
+        fold_faces and fold_free_vertices (the size of the fold region and of its filled-in
+        vertices, docs/FOLDS.md; 0 when no input folds)."""
         return self._core.stats
 
     def folded_faces(self, shape):

@@ -8,6 +8,7 @@ import pytest
 
 import bdinterp
 from bdinterp import io
+from bdinterp_tools import meshes
 from pose_meshes import _grid_cells, _smoothstep, body_with_limb, skinned_swing
 
 N = 16  # cells per unit: the limb (width 0.25) is 4 cells wide, the bar (0.5) 8
@@ -37,22 +38,11 @@ def rigged_swing(V, shoulder, angle):
     return (1 - w) * V + w * turned
 
 
-def signed_areas(X, F):
-    a, b, c = X[F[:, 0]], X[F[:, 1]], X[F[:, 2]]
-    return 0.5 * ((b - a)[:, 0] * (c - a)[:, 1] - (b - a)[:, 1] * (c - a)[:, 0])
-
-
 def near_folds(F, shapes, rings=2):
     """Faces within `rings` vertex rings of a face folded in some shape (relative to shapes[0])."""
-    a0 = signed_areas(shapes[0], F)
-    cur = np.zeros(len(F), bool)
-    for X in shapes[1:]:
-        cur |= signed_areas(X, F) / a0 < 0
-    for _ in range(rings):
-        hit = np.zeros(F.max() + 1, bool)
-        hit[F[cur].ravel()] = True
-        cur = hit[F].any(axis=1)
-    return cur
+    a0 = meshes.signed_areas(shapes[0], F)
+    folded = np.any([meshes.signed_areas(X, F) / a0 < 0 for X in shapes[1:]], axis=0)
+    return meshes.near_faces(F, folded, rings)
 
 
 def end_direction(X, end):

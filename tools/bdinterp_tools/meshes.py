@@ -41,6 +41,19 @@ def signed_areas(V, F):
     return 0.5 * (a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0])
 
 
+def near_faces(F, seed, rings=2):
+    """Boolean (m,) mask of the faces F (m,3) within `rings` vertex-sharing steps of the faces of
+    the boolean mask `seed` (m,): "a `rings`-face neighbourhood" (issue #10's two rings around
+    the folds)."""
+    F = np.asarray(F)
+    near = np.asarray(seed, bool).copy()
+    for _ in range(rings):
+        touched = np.zeros(F.max() + 1, bool)
+        touched[F[near].ravel()] = True
+        near = touched[F].any(axis=1)
+    return near
+
+
 def boundary_edges(F):
     """Directed boundary edges (k,2) of faces F (m,3): edges in one face only.
 
