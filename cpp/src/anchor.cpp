@@ -13,9 +13,6 @@
 #include "bdinterp/triangle.h"
 
 namespace bdinterp {
-namespace {
-
-}  // namespace
 
 AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     : mesh_(&disk), vertex_(vertex), base_(base) {

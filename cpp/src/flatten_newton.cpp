@@ -12,10 +12,10 @@
 
 #include "bdinterp/flatten.h"
 #include "detail/flatten_state.h"
+#include "detail/refining.h"
 
 namespace bdinterp {
 namespace {
-constexpr double kMaxStep = 4.0;  // largest change of any u_i in one Newton step
 // CG iterations a chord step may take before a fresh factorisation is the better deal.
 constexpr int kMaxCgIterations = 12;
 
@@ -32,14 +32,8 @@ class NewtonDriver {
     s_.trial_u = u_;
     // Chord steps first when an earlier factorisation is at hand (the previous frame's).
     bool chord = opt_.reuse_factorization && s_.factor_reusable;
-    while (n_ > 0 && s_.cur.residual > aim_) {
-      // Below the tolerance the solve only refines: it ends, without error, at the first step that
-      // does not halve the residual (roundoff) or at the step limit.
-      const bool refining = s_.cur.residual <= opt_.tolerance;
-      if (rep_.iterations >= opt_.max_iterations) {
-        if (refining) break;
-        fail("flattening did not converge in " + std::to_string(opt_.max_iterations) + " Newton steps");
-      }
+    while (n_ > 0 && stop_.another(s_.cur.residual, rep_.iterations)) {
+      const bool refining = stop_.refining(s_.cur.residual);
       ++rep_.iterations;
       const bool try_chord = chord || (refining && opt_.reuse_factorization && s_.factor_reusable);
       if (try_chord && chord_step(chord)) continue;
@@ -127,11 +121,10 @@ class NewtonDriver {
     s_.factor->solve(d.data(), d.data());
     // Far from the solution, faces broken to (pi, 0, 0) make the energy piecewise linear and the
     // Hessian nearly singular: cap the change of the log-scale factors (e^4 ~ 55x a length).
-    const double longest = d.cwiseAbs().maxCoeff();
-    if (longest > kMaxStep) d *= kMaxStep / longest;
+    detail::cap_newton_step(d);
     const double slope = g.dot(d);
     if (slope < 0) return slope;
-    d = -g * (kMaxStep / std::max(g.cwiseAbs().maxCoeff(), 1e-300));
+    d = -g * (detail::kMaxNewtonStep / std::max(g.cwiseAbs().maxCoeff(), 1e-300));
     return g.dot(d);
   }
 
@@ -150,7 +143,7 @@ class NewtonDriver {
       }
       if (accept) return s;
       ++rep_.line_search_steps;
-      if (s * 0.5 < 1e-12) fail("flattening line search failed");
+      if (s * 0.5 < 1e-12) stop_.fail(" line search failed", s_.cur.residual);
     }
   }
 
@@ -175,18 +168,13 @@ class NewtonDriver {
     rep_.max_broken_triangles = std::max(rep_.max_broken_triangles, s_.cur.broken);
   }
 
-  [[noreturn]] void fail(const std::string& what) const {
-    std::ostringstream s;
-    s << what << " (residual " << s_.cur.residual << " > tolerance " << opt_.tolerance << ")";
-    throw SolverError(s.str());
-  }
-
   Flattener::State& s_;
   const Eigen::VectorXd& l2_;
   Eigen::VectorXd& u_;
   const FlattenOptions& opt_;
   const int n_;
-  const double aim_ = opt_.tolerance * opt_.refinement;  // where the steps stop
+  const detail::RefiningStop stop_{opt_, "flattening"};
+  const double aim_ = stop_.aim();  // where the steps stop
   FlattenReport rep_;
   int last_cg_ = 0;  // CG iterations of the last chord step
 };

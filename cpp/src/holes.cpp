@@ -48,7 +48,7 @@ struct LowerPattern {
 
 }  // namespace
 
-HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece) {
+HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece), walk_(piece.dual_walk({0})) {
   const int nv = piece.num_vertices();
   std::vector<std::vector<int>> all = piece.boundary_loops();
   if (all.empty()) throw InvalidInput("a piece without boundary cannot be flattened");
@@ -159,7 +159,7 @@ void HoleSolver::factorize_layout() {
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_),
+    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_),
       loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), target_(o.target_), n_(o.n_),
       slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
       hessian_analysis_(o.hessian_analysis_), layout_analysis_(o.layout_analysis_),

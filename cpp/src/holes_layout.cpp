@@ -4,7 +4,6 @@
 #include <array>
 #include <cmath>
 #include <complex>
-#include <deque>
 
 #include "bdinterp/holes.h"
 
@@ -29,39 +28,29 @@ void HoleSolver::develop(const Eigen::VectorXd& l2, std::vector<std::complex<dou
   const Faces& FE = m.face_edges();
   const Edges& E = m.edges();
   const Edges& EF = m.edge_faces();
-  // Faces placed one after another across a dual spanning tree (breadth first from face 0): each
-  // child takes its parent's direction of the shared edge, so the rotations are consistent.
+  // Faces placed one after another across a dual spanning tree (walk_, breadth first from face 0):
+  // each child takes its parent's direction of the shared edge, so the rotations are consistent.
   std::vector<std::array<std::complex<double>, 3>> P(F.rows());
-  std::vector<bool> placed(F.rows(), false);
   auto lengths = [&](int f, double out[3]) {
     for (int c = 0; c < 3; ++c) out[c] = l2[FE(f, c)];
   };
   double fl2[3];
   lengths(0, fl2);
   local_triangle(fl2, P[0].data());
-  placed[0] = true;
-  std::deque<int> queue{0};
-  while (!queue.empty()) {
-    const int f = queue.front();
-    queue.pop_front();
-    for (int c = 0; c < 3; ++c) {
-      const int e = FE(f, c), g = EF(e, 0) == f ? EF(e, 1) : EF(e, 0);
-      if (g < 0 || placed[g]) continue;
-      const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-      std::complex<double> q[3];
-      lengths(g, fl2);
-      local_triangle(fl2, q);
-      int ca = 0, cb = 0;
-      for (int k = 0; k < 3; ++k) {
-        if (F(g, k) == a) ca = k;
-        if (F(g, k) == b) cb = k;
-      }
-      const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
-      const std::complex<double> r = (d / ld) / std::abs(d / ld);
-      for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
-      placed[g] = true;
-      queue.push_back(g);
+  for (const Mesh::DualStep& step : walk_) {
+    const int f = step.parent, c = step.parent_corner, g = step.face;
+    const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
+    std::complex<double> q[3];
+    lengths(g, fl2);
+    local_triangle(fl2, q);
+    int ca = 0, cb = 0;
+    for (int k = 0; k < 3; ++k) {
+      if (F(g, k) == a) ca = k;
+      if (F(g, k) == b) cb = k;
     }
+    const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
+    const std::complex<double> r = (d / ld) / std::abs(d / ld);
+    for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
   }
   // Every edge's vector E(e,0) -> E(e,1), averaged over its faces.
   d.assign(E.rows(), 0.0);

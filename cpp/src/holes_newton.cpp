@@ -4,14 +4,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <sstream>
 
 #include "bdinterp/holes.h"
 #include "bdinterp/sparse_cholesky.h"
+#include "detail/refining.h"
 
 namespace bdinterp {
 namespace {
-constexpr double kMaxStep = 4.0;  // as in the disk flattening: cap on a Newton step's change of u
 // Chord steps (the last factorisation) are tried below this residual: at 14.7k vertices they cut
 // the factorisations of an 11-frame sweep through a Moebius pair from 88 to 8.
 constexpr double kChordResidual = 1e-2;
@@ -67,19 +66,11 @@ void HoleSolver::newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Fla
   evaluate(l2, u, false, n_ > 0, &broken);
   fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);
   Eigen::VectorXd step(n_), trial(nv);
-  const double aim = options.tolerance * options.refinement;
-  for (int steps = 0; residual() > aim; ++steps) {
-    // Below the tolerance the solve only refines (as flatten_newton.cpp: frames must not depend on
-    // the previous frame's start, issue #11): it ends without error at the step limit or at the
-    // first full step that does not halve the residual (roundoff).
-    const bool refining = residual() <= options.tolerance;
-    if (steps >= options.max_iterations) {
-      if (refining) break;
-      std::ostringstream s;
-      s << "flattening (piece with holes) did not converge in " << options.max_iterations
-        << " Newton steps (residual " << residual() << ")";
-      throw SolverError(s.str());
-    }
+  // The stopping rule of the disk flattening (detail/refining.h); the roundoff floor is the first
+  // full step that does not halve the residual (line_search returns false).
+  const detail::RefiningStop stop(options, "flattening (piece with holes)");
+  for (int steps = 0; stop.another(residual(), steps); ++steps) {
+    const bool refining = stop.refining(residual());
     ++fr.iterations;
     const double r0 = residual();
     if (factored_ && r0 < kChordResidual) {
@@ -107,8 +98,7 @@ void HoleSolver::newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Fla
     ++fr.factorizations;
     step = -grad_;
     chol_->solve(step.data(), step.data());
-    const double longest = step.cwiseAbs().maxCoeff();
-    if (longest > kMaxStep) step *= kMaxStep / longest;
+    detail::cap_newton_step(step);
     if (!line_search(l2, u, step, r0, refining, energy, trial, broken, fr)) break;  // roundoff floor
     u.swap(trial);
     fr.max_broken_triangles = std::max(fr.max_broken_triangles, broken);

@@ -102,6 +102,7 @@ class HoleSolver {
                   bool want_hessian, int* broken) const;
 
   const Mesh* mesh_;
+  std::vector<Mesh::DualStep> walk_;     // the dual tree develop() places the faces over (from face 0)
   std::vector<std::vector<int>> loops_;  // the inner loops
   std::vector<int> unknown_;             // #V
   std::vector<int> vertex_of_;           // per unknown: a vertex of it
