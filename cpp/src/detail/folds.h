@@ -31,8 +31,11 @@ inline double corner_angle(const Positions& X, const Faces& F, int f, int c) {
 }
 
 // The Jacobian of the affine map of face f from `base` to X, given the inverse of base's edge
-// matrix [x1 - x0, x2 - x0] of that face.
-inline Eigen::Matrix2d face_jacobian(const Positions& X, const Faces& F, int f, const Eigen::Matrix2d& base_inverse) {
+// matrix [x1 - x0, x2 - x0] of that face. A template (as doubled_area): X may be a Positions or an
+// Eigen::Ref to one without a copy (fill()'s frame is a Ref: a `const Positions&` copied all #V rows
+// on every call).
+template <typename P>
+inline Eigen::Matrix2d face_jacobian(const P& X, const Faces& F, int f, const Eigen::Matrix2d& base_inverse) {
   Eigen::Matrix2d G;
   G.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
   G.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
