@@ -55,6 +55,8 @@ struct FoldFill::Plan {
   std::vector<int> part;                      // #F: part (component) of M', -1 in R
   std::vector<int> part_of_vertex;            // #V: part of an M' vertex, else -1
   std::vector<int> ref;                       // per part: its first face
+  std::vector<std::vector<int>> part_faces, part_vertices;  // per part: its faces, its vertices (ascending)
+  std::vector<char> in_rest;                  // #F: 1 for the faces of M'
   std::vector<char> main;                     // per part: the largest part of its piece
   std::vector<int> r_index;                   // #F: index among R's faces, else -1
   std::vector<Eigen::VectorXd> theta;         // per input: its rotation field (#F)
@@ -156,6 +158,13 @@ void FoldFill::Plan::find_parts(const std::vector<char>& in_region) {
   main.assign(ref.size(), 0);
   for (int l : largest)
     if (l >= 0) main[l] = 1;
+  part_faces.resize(ref.size());
+  part_vertices.resize(ref.size());
+  in_rest.assign(nf, 0);
+  for (int f = 0; f < nf; ++f)
+    if (part[f] >= 0) part_faces[part[f]].push_back(f), in_rest[f] = 1;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (part_of_vertex[v] >= 0) part_vertices[part_of_vertex[v]].push_back(v);
 }
 
 void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
@@ -302,29 +311,21 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   for (size_t i = 0; i < p.theta.size(); ++i) blend += w[static_cast<Eigen::Index>(i)] * p.theta[i];
   for (int f = 0; f < nf; ++f)
     if (p.part[f] >= 0) ang[f] = polar_angle(face_jacobian(X, F, f, p.base_inverse[f]));
+  // The frame's rotations on each part, from the branch nearest the blend at its first face (one walk: R parts them).
+  for (int r : p.ref) th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
+  p.lift(ang, p.in_rest, th);
   for (size_t q = 0; q < p.ref.size(); ++q) {
-    // The frame's rotations on part q, from the branch nearest the inputs' blend at its first face.
-    const int r = p.ref[q];
-    th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
-    std::vector<char> in_part(nf);
-    for (int f = 0; f < nf; ++f) in_part[f] = p.part[f] == static_cast<int>(q);
-    p.lift(ang, in_part, th);
     if (p.main[q]) continue;
     // A separated part turns by the inputs' blend (its mean rotation), about its vertices' mean.
     double turn = 0, total = 0;
-    for (int f = 0; f < nf; ++f)
-      if (in_part[f]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
+    for (int f : p.part_faces[q]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
     turn /= total;
     Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
-    int count = 0;
-    for (int v = 0; v < X.rows(); ++v)
-      if (p.part_of_vertex[v] == static_cast<int>(q)) centre += X.row(v), ++count;
-    centre /= count;
+    for (int v : p.part_vertices[q]) centre += X.row(v);
+    centre /= static_cast<double>(p.part_vertices[q].size());
     const Eigen::Matrix2d R = rotation(turn);
-    for (int v = 0; v < X.rows(); ++v)
-      if (p.part_of_vertex[v] == static_cast<int>(q)) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
-    for (int f = 0; f < nf; ++f)
-      if (in_part[f]) th[f] += turn;
+    for (int v : p.part_vertices[q]) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
+    for (int f : p.part_faces[q]) th[f] += turn;
   }
   // The in-between's rotations over R: the inputs' blend plus the harmonic extension of the
   // frame's difference from it (0 at an input's weights, so the input's own Jacobians come back).
