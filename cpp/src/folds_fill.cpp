@@ -279,9 +279,7 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
   Plan& p = *plan_;
   const Faces& F = mesh.faces();
   for (int f = 0; f < F.rows(); ++f) {
-    Eigen::Matrix2d E;
-    E.col(0) = (shapes[base].row(F(f, 1)) - shapes[base].row(F(f, 0))).transpose();
-    E.col(1) = (shapes[base].row(F(f, 2)) - shapes[base].row(F(f, 0))).transpose();
+    const Eigen::Matrix2d E = detail::edge_matrix(shapes[base], F, f);
     p.base_inverse.push_back(E.inverse());
     p.area.push_back(0.5 * std::abs(E.determinant()));
   }
