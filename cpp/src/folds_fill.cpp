@@ -51,6 +51,7 @@ struct FoldFill::Plan {
   std::vector<Eigen::Matrix2d> base_inverse;  // #F: inverse of the base's edge matrix
   std::vector<double> area;                   // #F: base area
   std::vector<double> weight;                 // #F: the face's weight in the Poisson energy
+  std::vector<std::vector<char>> unfolded;    // per input, #F: 1 where it keeps the base's orientation
   std::vector<char> smooth;                   // #F: keeps the harmonic rotation (sheared components)
   std::vector<int> part;                      // #F: part (component) of M', -1 in R
   std::vector<int> part_of_vertex;            // #V: part of an M' vertex, else -1
@@ -194,13 +195,11 @@ void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
 void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces) {
   const int nf = mesh.num_faces();
   const std::vector<char> all(nf, 1);
-  for (const Positions& X : shapes) {
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const Positions& X = shapes[i];
+    const std::vector<char>& unfolded = this->unfolded[i];
     Eigen::VectorXd ang(nf), th = Eigen::VectorXd::Constant(nf, kUnset);
-    std::vector<char> unfolded(nf);
-    for (int f = 0; f < nf; ++f) {
-      ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
-      unfolded[f] = doubled_area(X, mesh.faces(), f) * base_inverse[f].determinant() > 0;
-    }
+    for (int f = 0; f < nf; ++f) ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
     for (size_t p = 0; p < ref.size(); ++p)
       if (main[p]) th[ref[p]] = ang[ref[p]];
     lift(ang, unfolded, th);  // through the faces this input does not fold, then through the rest
@@ -283,13 +282,16 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
     p.base_inverse.push_back(E.inverse());
     p.area.push_back(0.5 * std::abs(E.determinant()));
   }
+  std::vector<char> never_folded(F.rows(), 1);  // by any input
   p.weight = p.area;
-  for (int f = 0; f < F.rows(); ++f)
-    for (const Positions& X : shapes)
-      if (doubled_area(X, F, f) * p.base_inverse[f].determinant() <= 0) p.weight[f] = options.folded_weight * p.area[f];
-  std::vector<double> base_det;
-  for (const Eigen::Matrix2d& B : p.base_inverse) base_det.push_back(B.determinant());
-  p.smooth = detail::smooth_faces(mesh, shapes, region_, base_det, options);
+  for (const Positions& X : shapes) {
+    p.unfolded.emplace_back(F.rows());
+    for (int f = 0; f < F.rows(); ++f) {
+      p.unfolded.back()[f] = doubled_area(X, F, f) * p.base_inverse[f].determinant() > 0;
+      if (!p.unfolded.back()[f]) never_folded[f] = 0, p.weight[f] = options.folded_weight * p.area[f];
+    }
+  }
+  p.smooth = detail::smooth_faces(mesh, shapes, region_, never_folded, options);
   p.find_parts(region_.in_region);
   p.plan_systems(region_);
   p.plan_rotations(shapes, region_.faces);

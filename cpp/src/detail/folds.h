@@ -95,7 +95,7 @@ inline Eigen::Matrix2d clamp_change(const Eigen::Matrix2d& J, double bound) {
   return D;
 }
 
-// Per face (base_det: the determinant of each face's inverse base edge matrix): 1 for the faces of
+// Per face (unfolded: #F, 1 for the faces no input folds relative to the base): 1 for the faces of
 // R that no input folds, in a connected component of R (across edges) holding a face whose length
 // blend inflates beyond options.inflation (a sheared, unfolded face). Those keep the harmonic
 // extension of the rotations instead of their own polar angle (folds_fill.cpp). With its
@@ -104,6 +104,6 @@ inline Eigen::Matrix2d clamp_change(const Eigen::Matrix2d& J, double bound) {
 // rotation, about 0, it is near the vertex blend (1 - t) I + t J, whose area is linear in t.
 // Per component: smooth rotations on the sheared faces only gave K 3.2 x the key's next to them.
 std::vector<char> smooth_faces(const Mesh& mesh, const std::vector<Positions>& shapes, const FoldRegion& region,
-                               const std::vector<double>& base_det, const FoldOptions& options);
+                               const std::vector<char>& unfolded, const FoldOptions& options);
 
 }  // namespace bdinterp::detail
