@@ -163,14 +163,10 @@ FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, i
 
 // See detail/folds.h: the fill's sheared components (docs/FOLDS.md).
 std::vector<char> detail::smooth_faces(const Mesh& mesh, const std::vector<Positions>& shapes, const FoldRegion& region,
-                               const std::vector<double>& base_det, const FoldOptions& options) {
+                               const std::vector<char>& unfolded, const FoldOptions& options) {
   const Faces& F = mesh.faces();
-  std::vector<char> unfolded(F.rows(), 0), out(F.rows(), 0);
+  std::vector<char> out(F.rows(), 0);
   std::vector<int> comp(F.rows(), -1);
-  for (int f : region.faces) {
-    unfolded[f] = 1;
-    for (const Positions& X : shapes) unfolded[f] = unfolded[f] && doubled_area(X, F, f) * base_det[f] > 0;
-  }
   for (int f0 : region.faces) {
     if (comp[f0] >= 0) continue;
     std::vector<int> members{f0};

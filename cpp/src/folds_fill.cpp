@@ -51,10 +51,13 @@ struct FoldFill::Plan {
   std::vector<Eigen::Matrix2d> base_inverse;  // #F: inverse of the base's edge matrix
   std::vector<double> area;                   // #F: base area
   std::vector<double> weight;                 // #F: the face's weight in the Poisson energy
+  std::vector<std::vector<char>> unfolded;    // per input, #F: 1 where it keeps the base's orientation
   std::vector<char> smooth;                   // #F: keeps the harmonic rotation (sheared components)
   std::vector<int> part;                      // #F: part (component) of M', -1 in R
   std::vector<int> part_of_vertex;            // #V: part of an M' vertex, else -1
   std::vector<int> ref;                       // per part: its first face
+  std::vector<std::vector<int>> part_faces, part_vertices;  // per part: its faces, its vertices (ascending)
+  std::vector<char> in_rest;                  // #F: 1 for the faces of M'
   std::vector<char> main;                     // per part: the largest part of its piece
   std::vector<int> r_index;                   // #F: index among R's faces, else -1
   std::vector<Eigen::VectorXd> theta;         // per input: its rotation field (#F)
@@ -156,6 +159,13 @@ void FoldFill::Plan::find_parts(const std::vector<char>& in_region) {
   main.assign(ref.size(), 0);
   for (int l : largest)
     if (l >= 0) main[l] = 1;
+  part_faces.resize(ref.size());
+  part_vertices.resize(ref.size());
+  in_rest.assign(nf, 0);
+  for (int f = 0; f < nf; ++f)
+    if (part[f] >= 0) part_faces[part[f]].push_back(f), in_rest[f] = 1;
+  for (int v = 0; v < mesh.num_vertices(); ++v)
+    if (part_of_vertex[v] >= 0) part_vertices[part_of_vertex[v]].push_back(v);
 }
 
 void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
@@ -185,13 +195,11 @@ void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
 void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces) {
   const int nf = mesh.num_faces();
   const std::vector<char> all(nf, 1);
-  for (const Positions& X : shapes) {
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    const Positions& X = shapes[i];
+    const std::vector<char>& unfolded = this->unfolded[i];
     Eigen::VectorXd ang(nf), th = Eigen::VectorXd::Constant(nf, kUnset);
-    std::vector<char> unfolded(nf);
-    for (int f = 0; f < nf; ++f) {
-      ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
-      unfolded[f] = doubled_area(X, mesh.faces(), f) * base_inverse[f].determinant() > 0;
-    }
+    for (int f = 0; f < nf; ++f) ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
     for (size_t p = 0; p < ref.size(); ++p)
       if (main[p]) th[ref[p]] = ang[ref[p]];
     lift(ang, unfolded, th);  // through the faces this input does not fold, then through the rest
@@ -270,19 +278,20 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
   Plan& p = *plan_;
   const Faces& F = mesh.faces();
   for (int f = 0; f < F.rows(); ++f) {
-    Eigen::Matrix2d E;
-    E.col(0) = (shapes[base].row(F(f, 1)) - shapes[base].row(F(f, 0))).transpose();
-    E.col(1) = (shapes[base].row(F(f, 2)) - shapes[base].row(F(f, 0))).transpose();
+    const Eigen::Matrix2d E = detail::edge_matrix(shapes[base], F, f);
     p.base_inverse.push_back(E.inverse());
     p.area.push_back(0.5 * std::abs(E.determinant()));
   }
+  std::vector<char> never_folded(F.rows(), 1);  // by any input
   p.weight = p.area;
-  for (int f = 0; f < F.rows(); ++f)
-    for (const Positions& X : shapes)
-      if (doubled_area(X, F, f) * p.base_inverse[f].determinant() <= 0) p.weight[f] = options.folded_weight * p.area[f];
-  std::vector<double> base_det;
-  for (const Eigen::Matrix2d& B : p.base_inverse) base_det.push_back(B.determinant());
-  p.smooth = detail::smooth_faces(mesh, shapes, region_, base_det, options);
+  for (const Positions& X : shapes) {
+    p.unfolded.emplace_back(F.rows());
+    for (int f = 0; f < F.rows(); ++f) {
+      p.unfolded.back()[f] = doubled_area(X, F, f) * p.base_inverse[f].determinant() > 0;
+      if (!p.unfolded.back()[f]) never_folded[f] = 0, p.weight[f] = options.folded_weight * p.area[f];
+    }
+  }
+  p.smooth = detail::smooth_faces(mesh, shapes, region_, never_folded, options);
   p.find_parts(region_.in_region);
   p.plan_systems(region_);
   p.plan_rotations(shapes, region_.faces);
@@ -302,29 +311,21 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   for (size_t i = 0; i < p.theta.size(); ++i) blend += w[static_cast<Eigen::Index>(i)] * p.theta[i];
   for (int f = 0; f < nf; ++f)
     if (p.part[f] >= 0) ang[f] = polar_angle(face_jacobian(X, F, f, p.base_inverse[f]));
+  // The frame's rotations on each part, from the branch nearest the blend at its first face (one walk: R parts them).
+  for (int r : p.ref) th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
+  p.lift(ang, p.in_rest, th);
   for (size_t q = 0; q < p.ref.size(); ++q) {
-    // The frame's rotations on part q, from the branch nearest the inputs' blend at its first face.
-    const int r = p.ref[q];
-    th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
-    std::vector<char> in_part(nf);
-    for (int f = 0; f < nf; ++f) in_part[f] = p.part[f] == static_cast<int>(q);
-    p.lift(ang, in_part, th);
     if (p.main[q]) continue;
     // A separated part turns by the inputs' blend (its mean rotation), about its vertices' mean.
     double turn = 0, total = 0;
-    for (int f = 0; f < nf; ++f)
-      if (in_part[f]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
+    for (int f : p.part_faces[q]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
     turn /= total;
     Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
-    int count = 0;
-    for (int v = 0; v < X.rows(); ++v)
-      if (p.part_of_vertex[v] == static_cast<int>(q)) centre += X.row(v), ++count;
-    centre /= count;
+    for (int v : p.part_vertices[q]) centre += X.row(v);
+    centre /= static_cast<double>(p.part_vertices[q].size());
     const Eigen::Matrix2d R = rotation(turn);
-    for (int v = 0; v < X.rows(); ++v)
-      if (p.part_of_vertex[v] == static_cast<int>(q)) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
-    for (int f = 0; f < nf; ++f)
-      if (in_part[f]) th[f] += turn;
+    for (int v : p.part_vertices[q]) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
+    for (int f : p.part_faces[q]) th[f] += turn;
   }
   // The in-between's rotations over R: the inputs' blend plus the harmonic extension of the
   // frame's difference from it (0 at an input's weights, so the input's own Jacobians come back).

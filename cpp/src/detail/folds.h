@@ -30,13 +30,22 @@ inline double corner_angle(const Positions& X, const Faces& F, int f, int c) {
   return std::atan2(std::abs(u.x() * v.y() - u.y() * v.x()), u.dot(v));
 }
 
+// The edge matrix [x1 - x0, x2 - x0] (columns) of face f in X (a Positions or an Eigen::Ref to one).
+template <typename P>
+inline Eigen::Matrix2d edge_matrix(const P& X, const Faces& F, int f) {
+  Eigen::Matrix2d E;
+  E.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
+  E.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
+  return E;
+}
+
 // The Jacobian of the affine map of face f from `base` to X, given the inverse of base's edge
-// matrix [x1 - x0, x2 - x0] of that face.
-inline Eigen::Matrix2d face_jacobian(const Positions& X, const Faces& F, int f, const Eigen::Matrix2d& base_inverse) {
-  Eigen::Matrix2d G;
-  G.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
-  G.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
-  return G * base_inverse;
+// matrix [x1 - x0, x2 - x0] of that face. A template (as doubled_area): X may be a Positions or an
+// Eigen::Ref to one without a copy (fill()'s frame is a Ref: a `const Positions&` copied all #V rows
+// on every call).
+template <typename P>
+inline Eigen::Matrix2d face_jacobian(const P& X, const Faces& F, int f, const Eigen::Matrix2d& base_inverse) {
+  return edge_matrix(X, F, f) * base_inverse;
 }
 
 // The area factor the squared-length blend at t = 1/2 of two inputs gives face f, relative to the
@@ -45,12 +54,7 @@ inline Eigen::Matrix2d face_jacobian(const Positions& X, const Faces& F, int f, 
 // infinite for a face collapsed in both of a pair.
 inline double blend_inflation(const std::vector<Positions>& shapes, const Faces& F, int f) {
   std::vector<Eigen::Matrix2d> E;
-  for (const Positions& X : shapes) {
-    Eigen::Matrix2d e;
-    e.col(0) = (X.row(F(f, 1)) - X.row(F(f, 0))).transpose();
-    e.col(1) = (X.row(F(f, 2)) - X.row(F(f, 0))).transpose();
-    E.push_back(e);
-  }
+  for (const Positions& X : shapes) E.push_back(edge_matrix(X, F, f));
   double worst = 0;
   for (size_t a = 0; a < E.size(); ++a)
     for (size_t b = a + 1; b < E.size(); ++b) {
@@ -91,7 +95,7 @@ inline Eigen::Matrix2d clamp_change(const Eigen::Matrix2d& J, double bound) {
   return D;
 }
 
-// Per face (base_det: the determinant of each face's inverse base edge matrix): 1 for the faces of
+// Per face (unfolded: #F, 1 for the faces no input folds relative to the base): 1 for the faces of
 // R that no input folds, in a connected component of R (across edges) holding a face whose length
 // blend inflates beyond options.inflation (a sheared, unfolded face). Those keep the harmonic
 // extension of the rotations instead of their own polar angle (folds_fill.cpp). With its
@@ -100,6 +104,6 @@ inline Eigen::Matrix2d clamp_change(const Eigen::Matrix2d& J, double bound) {
 // rotation, about 0, it is near the vertex blend (1 - t) I + t J, whose area is linear in t.
 // Per component: smooth rotations on the sheared faces only gave K 3.2 x the key's next to them.
 std::vector<char> smooth_faces(const Mesh& mesh, const std::vector<Positions>& shapes, const FoldRegion& region,
-                               const std::vector<double>& base_det, const FoldOptions& options);
+                               const std::vector<char>& unfolded, const FoldOptions& options);
 
 }  // namespace bdinterp::detail
