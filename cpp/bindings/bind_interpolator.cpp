@@ -2,6 +2,7 @@
 // Every call that solves releases the GIL first; the Interpolator then takes its own mutex, so a
 // thread waiting for that mutex never holds the GIL and the two locks cannot deadlock.
 #include "bdinterp/interpolator.h"
+#include "bdinterp/parallel.h"
 #include "bindings.h"
 
 namespace bdinterp::bindings {
@@ -46,6 +47,22 @@ void bind_options(py::module_& m) {
 
 void bind_interpolator(py::module_& m) {
   bind_options(m);
+  m.def(
+      "threading_info",
+      [] {
+        const parallel::Runtimes r = parallel::runtimes();
+        auto file = [](const std::string& f) { return f.empty() ? py::object(py::none()) : py::object(py::str(f)); };
+        py::dict d;
+        d["usable_cores"] = parallel::usable_cores();
+        d["machine_busy"] = parallel::machine_busy();
+        d["blas"] = file(r.blas);
+        d["openmp"] = file(r.openmp);
+        return d;
+      },
+      "How bdinterp sees this process's threads: usable_cores (online CPUs within the affinity mask "
+      "and the cgroup CPU quota), machine_busy (the pool's last verdict: frames' loops run serially "
+      "while other programs leave fewer than two cores), blas / openmp (the files of the OpenBLAS and "
+      "OpenMP runtime CHOLMOD calls, whose threads bdinterp limits during frames; None if not found).");
   py::class_<Interpolator>(m, "Interpolator")
       .def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
                     const InterpolatorOptions&>(),

@@ -265,6 +265,7 @@ void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> ou
   check_weights(w);
   if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
   const parallel::ThreadLimit limit(options_.threads);
+  const parallel::SingleThreadedBlas blas(true);
   FrameStats st = solve_frame(w, out, 0);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
@@ -296,6 +297,8 @@ void Interpolator::forget() {
 
 double Interpolator::floor_seconds(int repeats) {
   const std::lock_guard<std::mutex> lock(mutex_);
+  const parallel::ThreadLimit limit(options_.threads);  // factorised as inside a frame
+  const parallel::SingleThreadedBlas blas(true);
   double total = 0;
   for (size_t p = 0; p < plans_.size(); ++p) {
     Flattener& fl = workers_[0][p]->flattener;
@@ -344,7 +347,7 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   // Contiguous chunks of the sequence, one per worker (each warm-starts along its own chunk); worker 0
   // takes the last chunk so that this Interpolator's warm-start state ends at ts.back().
   const int threads = options_.threads;
-  int workers = threads > 0 ? threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  int workers = threads > 0 ? threads : static_cast<int>(parallel::usable_cores());
   workers = std::max(1, std::min<int>(workers, static_cast<int>(ts.size() / 4)));
   prepare_workers(workers);
   std::vector<FrameStats> stats(workers);
@@ -362,7 +365,7 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     }
   };
   {
-    const parallel::SingleThreadedBlas blas(workers > 1);
+    const parallel::SingleThreadedBlas blas(true);
     std::vector<std::thread> pool;
     for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
     run(0);

@@ -1,16 +1,12 @@
 #include "bdinterp/parallel.h"
 
-#include <dlfcn.h>
 #include <pthread.h>
-#include <fcntl.h>
-#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstdint>
-#include <cstdio>
 #include <mutex>
 #include <thread>
 
@@ -29,9 +25,12 @@ inline void pause_cpu() {
 #endif
 }
 
-// Below this many iterations a loop of a frame is not worth splitting (measured: a 5k-vertex mesh,
-// 10k faces, gains ~1.7x on two cores; a few hundred faces lose to the fork/join).
-constexpr long kMinItems = 2000;
+// Below this many iterations a loop of a frame is not worth splitting. With the worker spinning
+// through a frame on an idle machine a fork/join costs about a microsecond, so loops of a few
+// hundred faces gain too (warm frames on the idle 2-core VM, default / threads=1, with 500 against
+// 2000: 500 vertices 0.79-0.82 against 0.97-1.01, 1k 0.79-0.95 against 1.01-1.10, 2k 0.73 against
+// 0.76-0.80).
+constexpr long kMinItems = 500;
 // How long an idle worker spins before it sleeps. While a frame is being computed on an idle
 // machine: until the next loop, however long. A warm frame alternates parallel loops with serial
 // Cholesky solves (~0.15 ms each at 5k vertices, milliseconds at 50k): a worker that went to sleep
@@ -42,23 +41,29 @@ constexpr long kMinItems = 2000;
 // core from the frame's own calling thread and from other programs (measured: 300 us spins made
 // frames beside busy programs 1.37-1.70x slower than one thread).
 constexpr auto kShortSpin = std::chrono::microseconds(20);
-// Busy = more runnable threads than cores. Sampled by an awake worker every kSample from the
-// kernel's count of runnable threads (/proc/loadavg: one pread, a few us), this process's own
-// spinning or computing threads included; busy while the running mean of the excess over the cores
-// (the last ~4 samples) is at least 0.5, so a program that runs for a moment does not count. A
-// competitor that starts or stops is noticed within ~30 ms of frames; after a second without
-// frames the verdict goes back to busy until measured again.
+// Busy = other programs leave this process fewer than two cores (detail::LoadMean). Sampled every
+// kSample by a thread that starts a loop, from the kernel's count of runnable threads
+// (/proc/loadavg: one pread, a few us) less this process's running threads (the sampler and the
+// awake workers). While busy, loops run serially on their calling thread: beside one busy program
+// on two cores a second thread of ours only takes turns with the first on the remaining core
+// (measured: warm 5k frames 1.17-1.24x the one-thread time with the pool, beside another bdinterp
+// 1.13-1.36x). A competitor that starts or stops is noticed within ~30 ms of frames; after a second
+// without loops the verdict goes back to busy until measured again.
 constexpr auto kSample = std::chrono::milliseconds(10);
 constexpr auto kStale = std::chrono::seconds(1);
 // When the caller waited for a chunk that a worker had claimed longer than its own chunks took
-// (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk (a busy
-// machine): for kBackOff, callers run all chunks themselves (the same chunks and partial sums, so
-// the same bits), then try the pool again. Costs at most one such wait per kBackOff.
+// (plus kSlack for wake-up and cache noise), the worker was descheduled mid-chunk. If that happens
+// again and again (detail::LateMean: contention the runnable count does not show, such as a CPU
+// quota or a noisy host), callers run all chunks themselves for kBackOff (the same chunks and
+// partial sums, so the same bits), then try the pool again. Not for one late chunk now and then:
+// on the idle VM backing off after every one made warm 5k frames serial ~60 % of the time (47
+// back-offs in 4 s: 0.99x the one-thread time; 0.74-0.90x without).
 constexpr auto kBackOff = std::chrono::milliseconds(50);
 constexpr auto kSlack = std::chrono::microseconds(50);
 std::atomic<int64_t> serial_until{0};  // steady_clock ticks
 std::atomic<bool> busy{true};  // see kSample; until measured, the cautious guess
 std::atomic<int> computing{0};  // ThreadLimits alive that allow more than one thread: frames running
+std::atomic<int> awake{0};      // pool workers not asleep (spinning or running chunks)
 
 int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
 template <class Duration>
@@ -74,31 +79,29 @@ std::atomic<bool> forked{false};
 void note_fork() { forked.store(true); }
 const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
 
-int cores() {
-  static const int n = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  return n;
-}
+int cores() { return usable_cores(); }
 
-// One worker's view of the machine's load (see kSample); call sample() whenever awake.
+// The busy verdict (see kSample), updated by whichever thread starts a loop when the last sample is
+// older than kSample (one at a time).
 class LoadProbe {
  public:
   void sample() {
     const int64_t now = ticks();
-    if (now - last_ < ticks_of(kSample)) return;
-    last_ = now;
-    busy.store(verdict_.add(detail::runnable_threads(), cores()), std::memory_order_relaxed);
-  }
-  // After a sleep of over kStale the last verdict is old news: back to the cautious guess.
-  void slept(int64_t ticks_asleep) {
-    if (ticks_asleep <= ticks_of(kStale)) return;
-    verdict_ = detail::LoadMean();
-    busy.store(true, std::memory_order_relaxed);
+    int64_t last = last_.load(std::memory_order_relaxed);
+    if (now - last < ticks_of(kSample) || !last_.compare_exchange_strong(last, now)) return;
+    const int runnable = detail::runnable_threads();
+    const int others = runnable < 0 ? -1 : std::max(0, runnable - 1 - awake.load(std::memory_order_relaxed));
+    const std::lock_guard<std::mutex> lock(m_);
+    if (now - last > ticks_of(kStale)) verdict_ = detail::LoadMean();  // old news: the cautious guess
+    busy.store(verdict_.add(others, cores()), std::memory_order_relaxed);
   }
 
  private:
-  int64_t last_ = 0;
+  std::atomic<int64_t> last_{0};
+  std::mutex m_;
   detail::LoadMean verdict_;
 };
+LoadProbe load_probe;
 
 // Spins up to `spin`, checking `ready` between pauses; true once it holds.
 template <class Ready>
@@ -146,7 +149,8 @@ class Pool {
       caller_waiting_ = false;
     }
     const int64_t t2 = ticks();
-    if (t2 - t1 > t1 - t0 + ticks_of(kSlack)) serial_until.store(t2 + ticks_of(kBackOff), std::memory_order_relaxed);
+    if (late_.add(t2 - t1 > t1 - t0 + ticks_of(kSlack)))
+      serial_until.store(t2 + ticks_of(kBackOff), std::memory_order_relaxed);
     return true;
   }
 
@@ -170,36 +174,39 @@ class Pool {
 
   void worker() {
     inside = true;
-    LoadProbe load;
+    awake.fetch_add(1);
     uint32_t seen = static_cast<uint32_t>(state_.load() >> 32);
     for (;;) {
       auto fresh = [&] { return static_cast<uint32_t>(state_.load() >> 32) != seen; };
-      if (!wait_for_job(fresh, load)) {
-        const int64_t asleep = ticks();
+      if (!wait_for_job(fresh)) {
         std::unique_lock<std::mutex> lock(m_);
         sleepers_.fetch_add(1);
+        awake.fetch_sub(1);
         wake_.wait(lock, fresh);
+        awake.fetch_add(1);
         sleepers_.fetch_sub(1);
-        load.slept(ticks() - asleep);
       }
       seen = static_cast<uint32_t>(state_.load() >> 32);
       work(seen);
     }
   }
 
-  // Spins until `fresh` (true) or, unless a frame is being computed on an idle machine, for
-  // kShortSpin (false: go to sleep). Samples the load meanwhile.
+  // Spins until `fresh` (true) or for kShortSpin after the last moment a frame was being computed on
+  // an idle machine (false: go to sleep). Counting the short spin from
+  // that moment, not from the last job, keeps a worker awake across the gap between back-to-back
+  // frames (a slider drag, a script's loop) instead of waking it at the next frame's first loop.
   template <class Fresh>
-  static bool wait_for_job(Fresh&& fresh, LoadProbe& load) {
-    const auto start = std::chrono::steady_clock::now();
+  static bool wait_for_job(Fresh&& fresh) {
+    auto since = std::chrono::steady_clock::now();
     for (int k = 0;; ++k) {
       if (fresh()) return true;
       pause_cpu();
       if ((k & 63) != 63) continue;
-      load.sample();
       const bool keep =
           computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
-      if (!keep && std::chrono::steady_clock::now() - start > kShortSpin) return fresh();
+      const auto now = std::chrono::steady_clock::now();
+      if (keep) since = now;
+      else if (now - since > kShortSpin) return fresh();
     }
   }
 
@@ -219,29 +226,12 @@ class Pool {
   detail::ChunkFn fn_ = nullptr;
   void* context_ = nullptr;
   unsigned count_ = 0;  // workers started (guarded by dispatch_)
+  detail::LateMean late_;  // guarded by dispatch_
 };
 
 }  // namespace
 
 bool machine_busy() { return busy.load(std::memory_order_relaxed); }
-
-int detail::runnable_threads() {
-  static const int fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
-  char buf[128];
-  const ssize_t n = fd < 0 ? -1 : pread(fd, buf, sizeof buf - 1, 0);
-  if (n <= 0) return -1;
-  buf[n] = 0;
-  int running = -1;
-  // "0.52 0.58 0.59 3/245 12345": the fourth field is runnable/total.
-  return std::sscanf(buf, "%*s %*s %*s %d/", &running) == 1 ? running : -1;
-}
-
-bool detail::LoadMean::add(int runnable, int cores) {
-  // Without the count, assume busy: short spins are the cautious choice.
-  const double excess = runnable < 0 ? 1.0 : std::max(0, runnable - cores);
-  mean_ = 0.75 * mean_ + 0.25 * excess;
-  return mean_ >= 0.5;
-}
 
 int loop_threads(long items) {
   if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
@@ -256,8 +246,12 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
 }
 
 void detail::run(int chunks, ChunkFn fn, void* context) {
-  if (!inside && !forked.load(std::memory_order_relaxed) &&
-      ticks() >= serial_until.load(std::memory_order_relaxed)) {
+  if (inside || forked.load(std::memory_order_relaxed)) {
+    for (int k = 0; k < chunks; ++k) fn(context, k);
+    return;
+  }
+  load_probe.sample();
+  if (!busy.load(std::memory_order_relaxed) && ticks() >= serial_until.load(std::memory_order_relaxed)) {
     inside = true;
     const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
     inside = false;
@@ -266,62 +260,16 @@ void detail::run(int chunks, ChunkFn fn, void* context) {
   for (int k = 0; k < chunks; ++k) fn(context, k);
 }
 
-namespace {
-// CHOLMOD (Debian's libcholmod links libgomp) runs parallel regions of a fixed 4 threads inside
-// supernodal factorisations (CHOLMOD_OMP_NUM_THREADS), whatever bdinterp's own threading: on two
-// busy cores those regions wait for threads that are not scheduled. OpenMP's dynamic adjustment,
-// set for the calling thread only (it is a per-thread setting), lets libgomp shrink such a team
-// to the idle cores (online CPUs minus the load average). Looked up at run time: bdinterp itself
-// does not need OpenMP. By handle, not RTLD_DEFAULT: Python loads extension modules (and so
-// libcholmod and libgomp) RTLD_LOCAL, outside the default symbol scope.
-// The same holds for OpenBLAS (SingleThreadedBlas).
-void* loaded_library(const char* soname) {
-  void* h = dlopen(soname, RTLD_LAZY | RTLD_NOLOAD);  // only if already loaded
-  return h ? h : RTLD_DEFAULT;
-}
-struct OmpDynamic {
-  void* lib = loaded_library("libgomp.so.1");
-  void (*set)(int) = reinterpret_cast<void (*)(int)>(dlsym(lib, "omp_set_dynamic"));
-  int (*get)() = reinterpret_cast<int (*)()>(dlsym(lib, "omp_get_dynamic"));
-};
-const OmpDynamic& omp_dynamic() {
-  static const OmpDynamic f;
-  return f;
-}
-}  // namespace
-
 ThreadLimit::ThreadLimit(int threads) : saved_(limit), counted_(threads != 1) {
   limit = threads;
   if (counted_) computing.fetch_add(1, std::memory_order_relaxed);
-  const OmpDynamic& omp = omp_dynamic();
-  if (omp.set && omp.get) {
-    saved_dynamic_ = omp.get();
-    omp.set(1);
-  }
+  saved_dynamic_ = detail::swap_omp_dynamic(1);
 }
 
 ThreadLimit::~ThreadLimit() {
   limit = saved_;
   if (counted_) computing.fetch_sub(1, std::memory_order_relaxed);
-  const OmpDynamic& omp = omp_dynamic();
-  if (saved_dynamic_ >= 0) omp.set(saved_dynamic_);
-}
-
-SingleThreadedBlas::SingleThreadedBlas(bool active) {
-  if (!active) return;
-  void* lib = loaded_library("libopenblas.so.0");
-  set_ = reinterpret_cast<void (*)(int)>(dlsym(lib, "openblas_set_num_threads"));
-  const auto get = reinterpret_cast<int (*)()>(dlsym(lib, "openblas_get_num_threads"));
-  if (set_ && get) {
-    saved_ = get();
-    set_(1);
-  } else {
-    set_ = nullptr;
-  }
-}
-
-SingleThreadedBlas::~SingleThreadedBlas() {
-  if (set_) set_(saved_);
+  if (saved_dynamic_ >= 0) detail::swap_omp_dynamic(saved_dynamic_);
 }
 
 void Partials::prepare(int threads, long size) {

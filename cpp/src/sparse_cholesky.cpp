@@ -16,10 +16,15 @@ constexpr int kNestedDissectionRows = 20000;
 // (a copy that lost final_ll used to refactorise as LDL').
 void configure(cholmod_common& common, int n) {
   common.print = 0;  // failures are reported through exceptions, not printed
-  // Supernodal (BLAS) only when the factor is dense enough to profit: on this kind of matrix
-  // (planar meshes) the simplicial factorisation is faster up to ~10k rows (flops / nnz(L) ~ 50),
-  // supernodal beyond (~130 at 50k rows, ~280 at 500k).
-  common.supernodal_switch = 90;
+  // Supernodal (BLAS) only when the factor is dense enough to profit (flops / nnz(L) on planar
+  // meshes: ~50 at 10k rows, ~130 at 50k, ~146 at 100k, ~190 at 200k, ~280 at 500k). A supernodal
+  // factorisation is faster from ~10k rows, but its solves are not: CHOLMOD's supernodal solves make
+  // a BLAS call per supernode, and a warm frame does several solves per factorisation (chord steps,
+  // their CG, the layout). Measured on 2 cores, one thread, 7-point grids, supernodal / simplicial:
+  // 48k rows factor 65 / 75 ms, 2-column solve 9.7-12.2 / 6.1-7.0 ms (warm bar frames at 50k: 43 ->
+  // 31 ms simplicial, interleaved); 100k factor 151 / 248 ms, solve 15.8 / 10.5 ms; 200k 305 / 630,
+  // 36 / 24 ms. So simplicial up to ~100k rows (cold frames about even there), supernodal beyond.
+  common.supernodal_switch = 140;
   // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
   // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
   common.final_ll = 1;

@@ -34,6 +34,19 @@ def test_installed_from_zip_and_registered(addon):
         assert not any(p.endswith("_vendor") for p in sys.path)
 
 
+def test_core_finds_the_thread_controls_of_its_bundled_libraries(addon):
+    """The shipped module carries CHOLMOD's OpenMP runtime under a private name (libgomp-bdi.so.1):
+    bdinterp must find the runtime CHOLMOD really calls (looking it up by soname missed it), and
+    a BLAS with OpenBLAS's thread control (the bundled one, or one Blender loaded globally, to which
+    CHOLMOD's calls then bind)."""
+    info = addon.load_core().threading_info()
+    assert info["openmp"] and "libgomp" in os.path.basename(info["openmp"]), info
+    if info["openmp"].startswith(os.path.dirname(addon.load_core().__file__)):
+        assert "-bdi" in os.path.basename(info["openmp"]), info  # the private copy
+    assert info["blas"], info
+    assert 1 <= info["usable_cores"] <= os.cpu_count()
+
+
 def test_scripting_name_gives_the_same_modules(addon):
     """`import bdinterp_blender.ui` (the scripting name) must not load a second copy of the module
     under an extension, whose state would then diverge from the registered one."""

@@ -1,4 +1,7 @@
 """The Python surface: Plane, frames(method=...), argument validation and thread safety."""
+import os
+import subprocess
+import sys
 import threading
 
 import numpy as np
@@ -228,3 +231,30 @@ def test_one_interpolator_shared_by_threads_gives_the_sequential_frames(disk):
         for got in results[k]:
             assert np.abs(got - expected[k]).max() < 1e-8 * scale
     assert shared.stats.residual <= 1e-10
+
+
+# ---------------------------------------------------------------------------- threads and runtimes
+
+def test_threading_info_names_the_runtimes_cholmod_calls():
+    # Debian's CHOLMOD calls OpenBLAS and libgomp: bdinterp must find the very libraries it binds
+    # to (their thread controls are what keeps frames off other programs' cores).
+    info = bdinterp.threading_info()
+    assert set(info) == {"usable_cores", "machine_busy", "blas", "openmp"}
+    assert 1 <= info["usable_cores"] <= len(os.sched_getaffinity(0))
+    assert isinstance(info["machine_busy"], bool)
+    assert info["openmp"] and "libgomp" in os.path.basename(info["openmp"])
+    assert info["blas"] and os.path.exists(info["blas"])
+
+
+def test_usable_cores_follow_the_affinity_mask():
+    # A farm that pins a job to one CPU (taskset, a cpuset) gets one chunk per loop, not one per
+    # CPU of the host; frames stay what they are.
+    code = ("import bdinterp, numpy as np; print(bdinterp.threading_info()['usable_cores']); "
+            "V = np.array([[0,0],[1,0],[1,1],[0,1],[.5,.5]], float); "
+            "F = np.array([[0,1,4],[1,2,4],[2,3,4],[3,0,4]], np.int32); "
+            "print(abs(bdinterp.interpolate(V, V * [2, 1], F, .5)).max())")
+    env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+    out = subprocess.run(["taskset", "-c", "0", sys.executable, "-c", code], env=env, check=True,
+                         capture_output=True, text=True).stdout.split()
+    assert out[0] == "1"
+    assert float(out[1]) > 0

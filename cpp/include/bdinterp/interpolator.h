@@ -97,7 +97,8 @@ class Interpolator {
   void forget();
   // Benchmark floor: median wall-clock seconds (over `repeats`) of one numeric factorisation plus one
   // solve of the interior cotan Laplacian of the base shape, summed over pieces (symbolic analysis
-  // reused). Leaves the warm-start history untouched but invalidates reusable factorisations.
+  // reused), with the thread settings of a frame. Leaves the warm-start history untouched but
+  // invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
   // options().threads, for the bindings' `threads` property (InvalidInput outside [0, kMaxThreads]).
   void set_threads(int n);

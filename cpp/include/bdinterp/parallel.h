@@ -10,6 +10,7 @@
 // the serial loop by more than the wake-up, and results do not depend on who ran which chunk.
 #pragma once
 
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -20,8 +21,14 @@ namespace bdinterp::parallel {
 // thread's limit. 1 in a child process after fork().
 int loop_threads(long items);
 
-// Whether the pool judges the machine busy (more runnable threads than cores, sampled by its awake
-// workers; true until they have measured): its idle workers then spin only briefly. Diagnostics.
+// The cores this process may use: the online CPUs, limited by its affinity mask (taskset, a farm's
+// cpuset) and by its cgroup's CPU quota (cpu.max: docker --cpus, a Kubernetes limit), which
+// std::thread::hardware_concurrency() ignores. The pool's chunks and frames()'s default workers.
+int usable_cores();
+
+// Whether the pool judges the machine busy (other programs leave this process fewer than two
+// cores, sampled from the kernel's runnable count by the threads that start loops; true until
+// measured): loops then run serially on their calling thread, and idle workers sleep. Diagnostics.
 bool machine_busy();
 
 // The contiguous share [first, second) of chunk `chunk` out of `chunks` of n iterations (the
@@ -34,15 +41,34 @@ void run(int chunks, ChunkFn fn, void* context);
 // Runnable threads on the machine now (the kernel's count from /proc/loadavg, the caller
 // included), or -1 if unknown.
 int runnable_threads();
-// The busy verdict from successive samples of runnable_threads(): the running mean (weights 1/4 on
-// the newest) of the excess of runnable threads over the cores is at least 0.5. Starts as busy
-// (mean 1); an unknown count (-1) counts as an excess of 1.
+// Cores of a cgroup CPU quota, "QUOTA PERIOD" as in cpu.max ("150000 100000" -> 2, rounded up);
+// 0 for none ("max 100000", v1's "-1 100000") or an unreadable line.
+int quota_cores(const std::string& cpu_max);
+// omp_set_dynamic(value) on the OpenMP runtime CHOLMOD uses, for the calling thread; returns the
+// previous value, or -1 (and does nothing) without one.
+int swap_omp_dynamic(int value);
+// The busy verdict from successive samples of the other programs' runnable threads (the count
+// minus this process's own running ones): busy while the running mean (weight 1/4 on the newest)
+// of max(0, others - (cores - 2)) is at least 0.5, i.e. the others leave fewer than two cores on
+// average over the last ~4 samples; a program that runs for a moment does not count. Starts as
+// busy (mean 1); an unknown count (-1) counts as an excess of 1.
 class LoadMean {
  public:
-  bool add(int runnable, int cores);
+  bool add(int others, int cores);
 
  private:
   double mean_ = 1.0;
+};
+// Whether a job whose claimed chunk came back late should make the pool run serially for a while:
+// true for a late job when late ones were at least ~1 in 5 of the recent jobs (running mean, weight
+// 1/8 on the newest): two in a row do it, one now and then (an idle VM's hiccups, ~0.4 % of jobs)
+// does not.
+class LateMean {
+ public:
+  bool add(bool late);
+
+ private:
+  double mean_ = 0.0;
 };
 }  // namespace detail
 
@@ -86,9 +112,15 @@ class ThreadLimit {
 };
 
 // While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
-// thread: frames() already keeps every core busy with one frame per worker, and BLAS threads on top
-// only compete (measured at 50k vertices: parallel frames 1.24x faster with it). No-op without
-// OpenBLAS. Restores the previous count afterwards.
+// thread: bdinterp's own pool splits the loops of a frame, frames() already keeps every core busy
+// with one frame per worker, and BLAS threads on top only compete. OpenBLAS's idle threads yield-
+// spin for a while after each call: at 50k vertices one of them took the second core from the
+// pool's worker through every warm frame (39 % of its time in sched_yield), and its runnable state
+// made the pool judge an idle machine busy. One thread cost the factorisation nothing measurable
+// (50k: 50-68 ms against 50-59 ms; 500k: 650-760 against 635-711 ms, interleaved on 2 cores).
+// Every Interpolator call holds one. The setting is process-wide: the first object alive saves the
+// count and sets 1, the last restores it (so numpy in another thread of the same process runs on
+// one BLAS thread for that moment). No-op where CHOLMOD's BLAS is not OpenBLAS.
 class SingleThreadedBlas {
  public:
   explicit SingleThreadedBlas(bool active);
@@ -97,9 +129,16 @@ class SingleThreadedBlas {
   SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
 
  private:
-  void (*set_)(int) = nullptr;
-  int saved_ = 1;
+  bool active_;
 };
+
+// Diagnostics: the files of the libraries whose thread controls bdinterp uses, as CHOLMOD's calls
+// bind to them (this process's OpenBLAS, its OpenMP runtime); empty where none was found (another
+// BLAS; no OpenMP).
+struct Runtimes {
+  std::string blas, openmp;
+};
+Runtimes runtimes();
 
 // Per-chunk accumulation buffers for scatter-adds and reductions (chunk 0 writes into the caller's
 // array, the others into their own, summed afterwards in chunk order, so results do not depend on

@@ -1,0 +1,97 @@
+// The thread controls of the libraries CHOLMOD calls: the OpenMP runtime (Debian's libcholmod links
+// libgomp) and the BLAS of its supernodal factorisations (OpenBLAS). bdinterp needs neither itself,
+// so they are looked up at run time, in the library each call of CHOLMOD's really binds to.
+#include <dlfcn.h>
+
+#include <mutex>
+
+#include "bdinterp/parallel.h"
+
+namespace bdinterp::parallel {
+namespace {
+
+// The library that this code's (and so CHOLMOD's) references to `symbol` bind to, or nullptr.
+// dlsym(RTLD_DEFAULT) from here searches the global scope and then this object's own dependencies:
+// the order the loader resolved CHOLMOD's references in. By soname ("libgomp.so.1") the lookup
+// missed the shipped modules' private copies (libgomp-bdi.so.1, libblas-bdi.so.3, bundled next to
+// the module, scripts/bundle_libs.py), and inside Debian's Blender found Blender's OpenBLAS only by
+// chance; this way it is the one CHOLMOD calls, wherever it came from.
+struct Library {
+  void* handle = nullptr;
+  std::string file;
+};
+Library library_of(const char* symbol) {
+  void* f = dlsym(RTLD_DEFAULT, symbol);
+  Dl_info info{};
+  if (!f || !dladdr(f, &info) || !info.dli_fname) return {};
+  void* h = dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);  // already loaded: no new library
+  return h ? Library{h, info.dli_fname} : Library{};
+}
+
+template <class Fn>
+Fn symbol_in(const Library& lib, const char* name) {
+  return lib.handle ? reinterpret_cast<Fn>(dlsym(lib.handle, name)) : nullptr;
+}
+
+// A runtime's integer setting: its setter and getter in the library that `called` binds to.
+struct Control {
+  Library lib;
+  void (*set)(int) = nullptr;
+  int (*get)() = nullptr;
+  Control(const char* called, const char* setter, const char* getter)
+      : lib(library_of(called)), set(symbol_in<void (*)(int)>(lib, setter)), get(symbol_in<int (*)()>(lib, getter)) {}
+  bool usable() const { return set && get; }
+};
+
+// OpenMP: CHOLMOD runs parallel regions of a fixed 4 threads inside supernodal factorisations
+// (CHOLMOD_OMP_NUM_THREADS), whatever bdinterp's own threading: on two busy cores those regions wait
+// for threads that are not scheduled. OpenMP's dynamic adjustment, set for the calling thread only
+// (a per-thread setting), lets libgomp shrink such a team to the idle cores.
+const Control& openmp() {
+  static const Control c("GOMP_parallel", "omp_set_dynamic", "omp_get_dynamic");
+  return c;
+}
+
+// OpenBLAS: its number of threads is one process-wide setting.
+const Control& openblas() {
+  static const Control c("dgemm_", "openblas_set_num_threads", "openblas_get_num_threads");
+  return c;
+}
+
+// SingleThreadedBlas objects alive in the process, and the thread count before the first.
+std::mutex blas_mutex;
+int blas_holders = 0;
+int blas_saved = 1;
+
+}  // namespace
+
+int detail::swap_omp_dynamic(int value) {
+  const Control& omp = openmp();
+  if (!omp.usable()) return -1;
+  const int old = omp.get();
+  omp.set(value);
+  return old;
+}
+
+Runtimes runtimes() {
+  Runtimes r;
+  if (openblas().usable()) r.blas = openblas().lib.file;
+  if (openmp().usable()) r.openmp = openmp().lib.file;
+  return r;
+}
+
+SingleThreadedBlas::SingleThreadedBlas(bool active) : active_(active && openblas().usable()) {
+  if (!active_) return;
+  const std::lock_guard<std::mutex> lock(blas_mutex);
+  if (blas_holders++ > 0) return;
+  blas_saved = openblas().get();
+  if (blas_saved != 1) openblas().set(1);
+}
+
+SingleThreadedBlas::~SingleThreadedBlas() {
+  if (!active_) return;
+  const std::lock_guard<std::mutex> lock(blas_mutex);
+  if (--blas_holders == 0 && blas_saved != 1) openblas().set(blas_saved);
+}
+
+}  // namespace bdinterp::parallel
