@@ -56,13 +56,15 @@ void bind_interpolator(py::module_& m) {
         d["usable_cores"] = parallel::usable_cores();
         d["machine_busy"] = parallel::machine_busy();
         d["blas"] = file(r.blas);
+        d["blas_threads"] = r.blas_threads;
         d["openmp"] = file(r.openmp);
         return d;
       },
       "How bdinterp sees this process's threads: usable_cores (online CPUs within the affinity mask "
       "and the cgroup CPU quota), machine_busy (the pool's last verdict: frames' loops run serially "
-      "while other programs leave fewer than two cores), blas / openmp (the files of the OpenBLAS and "
-      "OpenMP runtime CHOLMOD calls, whose threads bdinterp limits during frames; None if not found).");
+      "while other programs leave fewer than two cores), blas (the file of the BLAS CHOLMOD calls, or "
+      "None), blas_threads (it is OpenBLAS, held at one thread during every call), openmp (the file "
+      "of the OpenMP runtime CHOLMOD calls, whose teams may shrink to the idle cores; None if none).");
   py::class_<Interpolator>(m, "Interpolator")
       .def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
                     const InterpolatorOptions&>(),

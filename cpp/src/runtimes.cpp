@@ -75,7 +75,8 @@ int detail::swap_omp_dynamic(int value) {
 
 Runtimes runtimes() {
   Runtimes r;
-  if (openblas().usable()) r.blas = openblas().lib.file;
+  r.blas = openblas().lib.file;
+  r.blas_threads = openblas().usable();
   if (openmp().usable()) r.openmp = openmp().lib.file;
   return r;
 }

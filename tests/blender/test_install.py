@@ -35,15 +35,20 @@ def test_installed_from_zip_and_registered(addon):
 
 
 def test_core_finds_the_thread_controls_of_its_bundled_libraries(addon):
-    """The shipped module carries CHOLMOD's OpenMP runtime under a private name (libgomp-bdi.so.1):
-    bdinterp must find the runtime CHOLMOD really calls (looking it up by soname missed it), and
-    a BLAS with OpenBLAS's thread control (the bundled one, or one Blender loaded globally, to which
-    CHOLMOD's calls then bind)."""
+    """The shipped module carries CHOLMOD's OpenMP runtime and BLAS under private names
+    (libgomp-bdi.so.1, libblas-bdi.so.3): bdinterp must find the libraries CHOLMOD really calls
+    (looking them up by soname missed them): the bundled ones, or those Blender loaded globally, to
+    which CHOLMOD's calls then bind (Blender 3.4: Debian's OpenBLAS; 4.3: a reference BLAS, which
+    has no threads to hold)."""
     info = addon.load_core().threading_info()
+    here = os.path.dirname(addon.load_core().__file__)
     assert info["openmp"] and "libgomp" in os.path.basename(info["openmp"]), info
-    if info["openmp"].startswith(os.path.dirname(addon.load_core().__file__)):
-        assert "-bdi" in os.path.basename(info["openmp"]), info  # the private copy
     assert info["blas"], info
+    for lib in ("openmp", "blas"):
+        if info[lib].startswith(here):
+            assert "-bdi" in os.path.basename(info[lib]), info  # the private copy
+    if info["blas"].startswith(here):
+        assert info["blas_threads"], info  # the bundled BLAS is OpenBLAS
     assert 1 <= info["usable_cores"] <= os.cpu_count()
 
 

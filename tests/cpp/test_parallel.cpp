@@ -197,7 +197,8 @@ TEST(Parallel, BlasRunsOnOneThreadWhileAFrameIsComputed) {
   // alive, on any thread, and restores the count the last one found.
   const parallel::Runtimes r = parallel::runtimes();
   EXPECT_NE(r.openmp.find("libgomp"), std::string::npos) << r.openmp;
-  if (!openblas_get_num_threads || r.blas.empty()) GTEST_SKIP() << "CHOLMOD's BLAS is not OpenBLAS here";
+  EXPECT_FALSE(r.blas.empty());
+  if (!openblas_get_num_threads || !r.blas_threads) GTEST_SKIP() << "CHOLMOD's BLAS is not OpenBLAS: " << r.blas;
   openblas_set_num_threads(2);
   {
     const parallel::SingleThreadedBlas a(true);

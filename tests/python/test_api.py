@@ -239,11 +239,12 @@ def test_threading_info_names_the_runtimes_cholmod_calls():
     # Debian's CHOLMOD calls OpenBLAS and libgomp: bdinterp must find the very libraries it binds
     # to (their thread controls are what keeps frames off other programs' cores).
     info = bdinterp.threading_info()
-    assert set(info) == {"usable_cores", "machine_busy", "blas", "openmp"}
+    assert set(info) == {"usable_cores", "machine_busy", "blas", "blas_threads", "openmp"}
     assert 1 <= info["usable_cores"] <= len(os.sched_getaffinity(0))
     assert isinstance(info["machine_busy"], bool)
     assert info["openmp"] and "libgomp" in os.path.basename(info["openmp"])
     assert info["blas"] and os.path.exists(info["blas"])
+    assert info["blas_threads"]  # Debian's libblas.so.3 is OpenBLAS here (scripts/setup-debian.sh)
 
 
 def test_usable_cores_follow_the_affinity_mask():

@@ -132,11 +132,13 @@ class SingleThreadedBlas {
   bool active_;
 };
 
-// Diagnostics: the files of the libraries whose thread controls bdinterp uses, as CHOLMOD's calls
-// bind to them (this process's OpenBLAS, its OpenMP runtime); empty where none was found (another
-// BLAS; no OpenMP).
+// Diagnostics: the libraries CHOLMOD's calls bind to in this process. blas: the file of its BLAS
+// (dgemm_; empty if none is loaded), blas_threads: it is OpenBLAS, whose thread count
+// SingleThreadedBlas sets (a reference BLAS, as inside Blender 4.3, has no threads to set); openmp:
+// the file of its OpenMP runtime with omp_set_dynamic (empty if none).
 struct Runtimes {
   std::string blas, openmp;
+  bool blas_threads = false;
 };
 Runtimes runtimes();
 
