@@ -154,6 +154,34 @@ TEST(Parallel, BusyVerdictFollowsTheOtherProgramsThreads) {
   EXPECT_TRUE(full.add(15, 16));
 }
 
+TEST(Parallel, LoopsRunOnTheCallerWhileOtherThreadsTakeTheCores) {
+  // As many spinning threads as cores (not pool workers: "others" to the pool) leave this process
+  // no core of its own: within a few samples (10 ms apart) the pool judges the machine busy, and
+  // from then on every chunk runs on the calling thread (no worker is woken to take turns with
+  // the caller), with the same chunks as ever.
+  const int cores = parallel::usable_cores();
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> competitors;
+  for (int k = 0; k < cores; ++k)
+    competitors.emplace_back([&] {
+      while (!stop.load(std::memory_order_relaxed)) {
+      }
+    });
+  const parallel::ThreadLimit frame(0);
+  for (int k = 0; k < 20 && !parallel::machine_busy(); ++k) {
+    parallel::run(2, [](int) {});
+    std::this_thread::sleep_for(std::chrono::milliseconds(12));
+  }
+  const bool busy = parallel::machine_busy();
+  std::vector<std::thread::id> ran(2);
+  for (int rep = 0; rep < 20; ++rep) parallel::run(2, [&](int k) { ran[k] = std::this_thread::get_id(); });
+  stop = true;
+  for (auto& t : competitors) t.join();
+  EXPECT_TRUE(busy);
+  EXPECT_EQ(ran[0], std::this_thread::get_id());
+  EXPECT_EQ(ran[1], std::this_thread::get_id());
+}
+
 TEST(Parallel, OnlyRepeatedLateChunksMakeThePoolBackOff) {
   parallel::detail::LateMean m;
   EXPECT_FALSE(m.add(true));  // one late job (an idle VM's hiccup): 0.125
