@@ -346,8 +346,9 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     if (!std::isfinite(ts[j])) throw InvalidInput("t must be finite (entry " + std::to_string(j) + ")");
   // Contiguous chunks of the sequence, one per worker (each warm-starts along its own chunk); worker 0
   // takes the last chunk so that this Interpolator's warm-start state ends at ts.back().
+  const parallel::SingleThreadedBlas blas(true);  // the workers' frames run on one BLAS thread each
   const int threads = options_.threads;
-  int workers = threads > 0 ? threads : static_cast<int>(parallel::usable_cores());
+  int workers = threads > 0 ? threads : parallel::usable_cores();
   workers = std::max(1, std::min<int>(workers, static_cast<int>(ts.size() / 4)));
   prepare_workers(workers);
   std::vector<FrameStats> stats(workers);
@@ -364,15 +365,11 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
       errors[k] = std::current_exception();
     }
   };
-  {
-    const parallel::SingleThreadedBlas blas(true);
-    std::vector<std::thread> pool;
-    for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
-    run(0);
-    for (auto& th : pool) th.join();
-  }
-  for (const auto& e : errors)
-    if (e) std::rethrow_exception(e);
+  std::vector<std::thread> pool;
+  for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
+  run(0);
+  for (auto& th : pool) th.join();
+  for (const auto& e : errors) if (e) std::rethrow_exception(e);
   FrameStats st = stats[0];
   for (int k = 1; k < workers; ++k) merge(st, stats[k]);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

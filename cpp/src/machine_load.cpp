@@ -16,12 +16,28 @@
 
 namespace bdinterp::parallel {
 namespace {
-// The cgroup's CPU quota in cores (0: none), v2 (cpu.max) or v1 (cfs_quota_us / cfs_period_us).
+// This process's cgroup path for `controller` ("" for v2's unified hierarchy) from /proc/self/cgroup
+// ("0::/system.slice/x.service", "1:cpu,cpuacct:/docker/abc"); "/" inside a container's namespace.
+std::string cgroup_path(const std::string& controller) {
+  std::ifstream in("/proc/self/cgroup");
+  for (std::string line; std::getline(in, line);) {
+    const size_t a = line.find(':'), b = line.find(':', a + 1);
+    if (a == std::string::npos || b == std::string::npos) continue;
+    const std::string names = "," + line.substr(a + 1, b - a - 1) + ",";
+    if (controller.empty() ? names == ",," : names.find("," + controller + ",") != std::string::npos)
+      return line.substr(b + 1);
+  }
+  return "/";
+}
+
+// The cgroup's CPU quota in cores (0: none), v2 (cpu.max) or v1 (cfs_quota_us / cfs_period_us), in
+// the process's own cgroup (a systemd unit's CPUQuota, a container's --cpus).
 int cgroup_quota_cores() {
-  std::ifstream v2("/sys/fs/cgroup/cpu.max");
+  std::ifstream v2("/sys/fs/cgroup" + cgroup_path("") + "/cpu.max");
   std::string line;
   if (v2 && std::getline(v2, line)) return detail::quota_cores(line);
-  std::ifstream quota("/sys/fs/cgroup/cpu/cpu.cfs_quota_us"), period("/sys/fs/cgroup/cpu/cpu.cfs_period_us");
+  const std::string v1 = "/sys/fs/cgroup/cpu" + cgroup_path("cpu");
+  std::ifstream quota(v1 + "/cpu.cfs_quota_us"), period(v1 + "/cpu.cfs_period_us");
   std::string q, p;
   if (quota >> q && period >> p) return detail::quota_cores(q + " " + p);
   return 0;

@@ -259,3 +259,36 @@ def test_usable_cores_follow_the_affinity_mask():
                          capture_output=True, text=True).stdout.split()
     assert out[0] == "1"
     assert float(out[1]) > 0
+
+
+def test_usable_cores_follow_a_cgroup_cpu_quota():
+    # A container's --cpus or a systemd unit's CPUQuota: the process runs in a cgroup with a quota
+    # of one core on a machine with more; its loops must not be split for cores it cannot have.
+    # Made for real in a child cgroup (root, cgroup v1 or v2 with the cpu controller).
+    if os.cpu_count() < 2:
+        pytest.skip("one CPU: nothing to limit")
+    name = "bdinterp-test-%d" % os.getpid()
+    if os.path.isfile("/sys/fs/cgroup/cpu/cpu.cfs_quota_us"):
+        group, limits = "/sys/fs/cgroup/cpu/" + name, {"cpu.cfs_period_us": "100000",
+                                                         "cpu.cfs_quota_us": "100000"}
+    elif "cpu" in open("/sys/fs/cgroup/cgroup.subtree_control").read().split() \
+            if os.path.isfile("/sys/fs/cgroup/cgroup.subtree_control") else False:
+        group, limits = "/sys/fs/cgroup/" + name, {"cpu.max": "100000 100000"}
+    else:
+        pytest.skip("no cgroup cpu controller to write to")
+    try:
+        os.mkdir(group)
+    except OSError as e:
+        pytest.skip("cannot make a cgroup here: %s" % e)
+    try:
+        for f, value in limits.items():
+            with open(os.path.join(group, f), "w") as out:
+                out.write(value)
+        code = "import bdinterp; print(bdinterp.threading_info()['usable_cores'])"
+        env = dict(os.environ, PYTHONPATH=os.pathsep.join(sys.path))
+        script = 'echo $$ > %s/cgroup.procs && exec "$0" -c "$1"' % group
+        out = subprocess.run(["sh", "-c", script, sys.executable, code], env=env, check=True,
+                             capture_output=True, text=True).stdout.split()
+        assert out == ["1"]
+    finally:
+        os.rmdir(group)
