@@ -121,7 +121,6 @@ void BM_Floor(benchmark::State& state) {
   // The thread settings of a frame (Interpolator calls): without them CHOLMOD's OpenMP regions of 4
   // threads on the 2 cores made the 50k floor 73-103 ms instead of 50-68 ms.
   const bd::parallel::ThreadLimit limit(0);
-  const bd::parallel::SingleThreadedBlas blas(true);
   for (auto _ : state) {
     chol.factorize();
     chol.solve(b.data(), x.data());

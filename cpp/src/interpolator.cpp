@@ -265,7 +265,6 @@ void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> ou
   check_weights(w);
   if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
   const parallel::ThreadLimit limit(options_.threads);
-  const parallel::SingleThreadedBlas blas(true);
   FrameStats st = solve_frame(w, out, 0);
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
@@ -298,7 +297,6 @@ void Interpolator::forget() {
 double Interpolator::floor_seconds(int repeats) {
   const std::lock_guard<std::mutex> lock(mutex_);
   const parallel::ThreadLimit limit(options_.threads);  // factorised as inside a frame
-  const parallel::SingleThreadedBlas blas(true);
   double total = 0;
   for (size_t p = 0; p < plans_.size(); ++p) {
     Flattener& fl = workers_[0][p]->flattener;
@@ -346,7 +344,6 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     if (!std::isfinite(ts[j])) throw InvalidInput("t must be finite (entry " + std::to_string(j) + ")");
   // Contiguous chunks of the sequence, one per worker (each warm-starts along its own chunk); worker 0
   // takes the last chunk so that this Interpolator's warm-start state ends at ts.back().
-  const parallel::SingleThreadedBlas blas(true);  // the workers' frames run on one BLAS thread each
   const int threads = options_.threads;
   int workers = threads > 0 ? threads : parallel::usable_cores();
   workers = std::max(1, std::min<int>(workers, static_cast<int>(ts.size() / 4)));
@@ -354,7 +351,8 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
   auto run = [&](int k) {
-    // One frame per worker: with several workers, the loops inside a frame stay on their thread.
+    // One frame per worker: with several workers, the loops inside a frame stay on their thread (and
+    // OpenBLAS on one thread, held by the workers together).
     const parallel::ThreadLimit limit(workers > 1 ? 1 : threads);
     const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
     const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;

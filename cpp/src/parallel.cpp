@@ -79,8 +79,6 @@ std::atomic<bool> forked{false};
 void note_fork() { forked.store(true); }
 const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
 
-int cores() { return usable_cores(); }
-
 // The busy verdict (see kSample), updated by whichever thread starts a loop when the last sample is
 // older than kSample (one at a time).
 class LoadProbe {
@@ -93,7 +91,7 @@ class LoadProbe {
     const int others = runnable < 0 ? -1 : std::max(0, runnable - 1 - awake.load(std::memory_order_relaxed));
     const std::lock_guard<std::mutex> lock(m_);
     if (now - last > ticks_of(kStale)) verdict_ = detail::LoadMean();  // old news: the cautious guess
-    busy.store(verdict_.add(others, cores()), std::memory_order_relaxed);
+    busy.store(verdict_.add(others, usable_cores()), std::memory_order_relaxed);
   }
 
  private:
@@ -129,7 +127,7 @@ class Pool {
   bool run(int chunks, detail::ChunkFn fn, void* context) {
     std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
     if (!job.owns_lock()) return false;
-    grow(std::min(chunks, cores()) - 1);
+    grow(std::min(chunks, usable_cores()) - 1);
     fn_ = fn;
     context_ = context;
     done_.store(0);
@@ -235,7 +233,7 @@ bool machine_busy() { return busy.load(std::memory_order_relaxed); }
 
 int loop_threads(long items) {
   if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
-  const int all = std::min(cores(), 0xffff);
+  const int all = std::min(usable_cores(), 0xffff);
   return limit > 0 && limit < all ? limit : all;
 }
 

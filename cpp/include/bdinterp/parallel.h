@@ -94,10 +94,33 @@ void for_each(int chunks, long n, Body&& body) {
   });
 }
 
-// While alive, loops started on this thread use at most `threads` chunks (0: no limit); with more
-// than one allowed, the pool's idle workers keep spinning between loops while the machine is idle
-// (a frame is being computed: the next loop follows within milliseconds); and OpenMP regions that libraries (CHOLMOD) start on this thread may use fewer threads than they ask
-// for when the machine is busy (omp_set_dynamic(1), if libgomp is loaded; restored afterwards).
+// While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
+// thread: bdinterp's own pool splits the loops of a frame, frames() already keeps every core busy
+// with one frame per worker, and BLAS threads on top only compete. OpenBLAS's idle threads yield-
+// spin for a while after each call: at 50k vertices one of them took the second core from the
+// pool's worker through every warm frame (39 % of its time in sched_yield), and its runnable state
+// made the pool judge an idle machine busy. One thread cost the factorisation nothing measurable
+// (50k: 50-68 ms against 50-59 ms; 500k: 650-760 against 635-711 ms, interleaved on 2 cores).
+// Every ThreadLimit holds one. The setting is process-wide: the first object alive saves the
+// count and sets 1, the last restores it (so numpy in another thread of the same process runs on
+// one BLAS thread for that moment). No-op where CHOLMOD's BLAS is not OpenBLAS.
+class SingleThreadedBlas {
+ public:
+  explicit SingleThreadedBlas(bool active = true);
+  ~SingleThreadedBlas();
+  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
+  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
+
+ private:
+  bool active_;
+};
+
+// The thread settings of one bdinterp call (every Interpolator call holds one). While alive: loops
+// started on this thread use at most `threads` chunks (0: no limit); with more than one allowed, the
+// pool's idle workers keep spinning between loops while the machine is idle (a frame is being
+// computed: the next loop follows within milliseconds); OpenMP regions that CHOLMOD starts on this
+// thread may use fewer threads than they ask for when the machine is busy (omp_set_dynamic(1));
+// and OpenBLAS runs on one thread (SingleThreadedBlas). Each is restored afterwards.
 class ThreadLimit {
  public:
   explicit ThreadLimit(int threads);
@@ -109,27 +132,7 @@ class ThreadLimit {
   int saved_;
   bool counted_;            // counted among the frames being computed (threads != 1)
   int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
-};
-
-// While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
-// thread: bdinterp's own pool splits the loops of a frame, frames() already keeps every core busy
-// with one frame per worker, and BLAS threads on top only compete. OpenBLAS's idle threads yield-
-// spin for a while after each call: at 50k vertices one of them took the second core from the
-// pool's worker through every warm frame (39 % of its time in sched_yield), and its runnable state
-// made the pool judge an idle machine busy. One thread cost the factorisation nothing measurable
-// (50k: 50-68 ms against 50-59 ms; 500k: 650-760 against 635-711 ms, interleaved on 2 cores).
-// Every Interpolator call holds one. The setting is process-wide: the first object alive saves the
-// count and sets 1, the last restores it (so numpy in another thread of the same process runs on
-// one BLAS thread for that moment). No-op where CHOLMOD's BLAS is not OpenBLAS.
-class SingleThreadedBlas {
- public:
-  explicit SingleThreadedBlas(bool active);
-  ~SingleThreadedBlas();
-  SingleThreadedBlas(const SingleThreadedBlas&) = delete;
-  SingleThreadedBlas& operator=(const SingleThreadedBlas&) = delete;
-
- private:
-  bool active_;
+  SingleThreadedBlas blas_;
 };
 
 // Diagnostics: the libraries CHOLMOD's calls bind to in this process. blas: the file of its BLAS
