@@ -107,7 +107,9 @@ void print_busy_rows(const std::vector<int>& sizes, int reps, const MakeInterpol
       std::vector<double> warm[2], bake[2];
       int judged_busy = 0;  // default-thread runs after which the pool judged the machine busy
       for (int r = 0; r < reps; ++r) {
-        for (int one = 0; one < 2; ++one) {
+        // Which mode goes first alternates, so neither always follows the other's bake.
+        for (int k = 0; k < 2; ++k) {
+          const int one = (k + r) % 2;
           I->set_threads(one);
           warm_ms(*I, slider, 3);  // back on the slider after a bake (not timed)
           warm[one].push_back(warm_ms(*I, slider, frames));
