@@ -190,7 +190,8 @@ class Pool {
   }
 
   // Spins until `fresh` (true) or for kShortSpin after the last moment a frame was being computed on
-  // an idle machine (false: go to sleep). Counting the short spin from
+  // an idle machine with the pool in use (false: go to sleep; while callers back off, see kBackOff,
+  // a spinning worker would only take a core). Counting the short spin from
   // that moment, not from the last job, keeps a worker awake across the gap between back-to-back
   // frames (a slider drag, a script's loop) instead of waking it at the next frame's first loop.
   template <class Fresh>
@@ -200,9 +201,9 @@ class Pool {
       if (fresh()) return true;
       pause_cpu();
       if ((k & 63) != 63) continue;
-      const bool keep =
-          computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed);
       const auto now = std::chrono::steady_clock::now();
+      const bool keep = computing.load(std::memory_order_relaxed) > 0 && !busy.load(std::memory_order_relaxed) &&
+                        now.time_since_epoch().count() >= serial_until.load(std::memory_order_relaxed);
       if (keep) since = now;
       else if (now - since > kShortSpin) return fresh();
     }

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bdinterp/parallel.h"
+#include "detail/tree_solve.h"
 
 namespace bdinterp {
 namespace {
@@ -24,6 +25,8 @@ void configure(cholmod_common& common, int n) {
   // 48k rows factor 65 / 75 ms, 2-column solve 9.7-12.2 / 6.1-7.0 ms (warm bar frames at 50k: 43 ->
   // 31 ms simplicial, interleaved); 100k factor 151 / 248 ms, solve 15.8 / 10.5 ms; 200k 305 / 630,
   // 36 / 24 ms. So simplicial up to ~100k rows (cold frames about even there), supernodal beyond.
+  // Simplicial solves also split over the cores (tree_solve.h: 48k rows, 2 cores, 1 column 1.4-2.3
+  // ms against CHOLMOD's 2.8-3.8 ms).
   common.supernodal_switch = 140;
   // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
   // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
@@ -123,6 +126,8 @@ struct SparseCholesky::Impl {
   int ncols = 0;
   bool factored = false;
   mutable parallel::Partials product_parts;  // other threads' shares of multiply()
+  // The elimination-tree split of the solves per number of chunks (index), built on first use.
+  std::vector<std::unique_ptr<detail::TreeSolve>> tree_solves;
 
   explicit Impl(const CholeskyAnalysis& a, const cholmod_factor* symbolic)
       : common(a.size()), values(a.row_indices().size(), 0.0), A(view(a, values.data())) {
@@ -201,10 +206,43 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
   parts.add_into(y);
 }
 
+namespace {
+// The factor as TreeSolve reads it; n = 0 unless simplicial L L' (supernodal factors above
+// ~100k rows keep CHOLMOD's solve).
+detail::FactorView factor_view(const cholmod_factor& L) {
+  if (L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT) return {};
+  return {static_cast<int>(L.n), static_cast<const int*>(L.p), static_cast<const int*>(L.i),
+          static_cast<const int*>(L.nz), static_cast<const double*>(L.x), static_cast<const int*>(L.Perm)};
+}
+}  // namespace
+
+detail::TreeSolve* SparseCholesky::tree_solve(int chunks) {
+  Impl& m = *impl_;
+  const detail::FactorView view = factor_view(*m.L);
+  if (chunks <= 1 || view.n != size()) return nullptr;
+  if (static_cast<int>(m.tree_solves.size()) <= chunks) m.tree_solves.resize(chunks + 1);
+  std::unique_ptr<detail::TreeSolve>& plan = m.tree_solves[chunks];
+  if (!plan) plan = std::make_unique<detail::TreeSolve>(view, chunks);
+  return plan->usable() && plan->bins() > 1 ? plan.get() : nullptr;
+}
+
+SparseCholesky::SolveSplit SparseCholesky::solve_split(int chunks) {
+  if (!factored()) throw SolverError("SparseCholesky::solve_split called without a valid factorisation");
+  const detail::TreeSolve* plan = tree_solve(chunks);
+  if (!plan) return {};
+  return {plan->bins(), plan->top_share(), plan->critical_share()};
+}
+
 void SparseCholesky::solve(const double* b, double* x, int ncols) {
   Impl& m = *impl_;
   if (!m.factored) throw SolverError("SparseCholesky::solve called without a valid factorisation");
   const int n = size();
+  // Split over the cores when a solve is worth two fork/joins (nnz(L) >= 8000: from ~1k rows).
+  const int chunks = parallel::loop_threads(static_cast<long>(solve_flops() / 64));
+  if (detail::TreeSolve* plan = ncols <= detail::TreeSolve::kMaxColumns ? tree_solve(chunks) : nullptr) {
+    plan->solve(factor_view(*m.L), b, x, ncols);
+    return;
+  }
   m.ensure_rhs(n, ncols);
   std::memcpy(m.B->x, b, sizeof(double) * n * ncols);
   cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common.c);

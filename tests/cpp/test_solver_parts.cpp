@@ -7,6 +7,7 @@
 #include <thread>
 
 #include "../../cpp/src/detail/refactor_policy.h"
+#include "../../cpp/src/detail/turns.h"
 #include "../../cpp/src/detail/warm_start.h"
 #include "bdinterp/flatten.h"
 #include "bdinterp/metric_blend.h"
@@ -121,6 +122,37 @@ TEST(SparseCholesky, EveryWorkspaceFactorisesAsLLtOnAnyThread) {
   worker.join();
   EXPECT_TRUE(worker_ll);
   EXPECT_EQ((x0 - x1).cwiseAbs().maxCoeff(), 0.0);  // the same factorisation, bit for bit
+}
+
+TEST(Turns, ChunksCombineToTheSameAngleSum) {
+  // A vertex's corners split over chunks: each chunk's running product, multiplied together with
+  // combine_turns, must give the angle sum of one running product over all corners (and of the
+  // half-angles summed directly), including products exactly on the axes (right angles: factor
+  // (1, 1)) and sums of several turns.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> half_angle(1e-9, 1.5707963);
+  for (int trial = 0; trial < 4000; ++trial) {
+    const int corners = 1 + static_cast<int>(rng() % 24), chunks = 1 + static_cast<int>(rng() % 5);
+    const bool right = trial % 3 == 0;
+    double exact = 0, one_re = 1, one_im = 0, one_sum = 0;
+    std::vector<double> re(chunks, 1.0), im(chunks, 0.0), sum(chunks, 0.0);
+    for (int c = 0; c < corners; ++c) {
+      const double h = right ? 0.78539816339744830962 : half_angle(rng);
+      const double a = right ? 1.0 : std::cos(h), b = right ? 1.0 : std::sin(h);
+      exact += h;
+      detail::turn(one_re, one_im, one_sum, a, b);
+      const int k = static_cast<int>(rng() % chunks);
+      detail::turn(re[k], im[k], sum[k], a, b);
+    }
+    double r = re[0], i = im[0], total = sum[0];
+    for (int k = 1; k < chunks; ++k) {
+      total += sum[k];
+      detail::combine_turns(r, i, total, re[k], im[k]);
+    }
+    const double combined = total + detail::argument(r, i), single = one_sum + detail::argument(one_re, one_im);
+    ASSERT_NEAR(single, exact, 1e-9) << "trial " << trial;
+    ASSERT_NEAR(combined, exact, 1e-9) << "trial " << trial << ", " << corners << " corners in " << chunks << " chunks";
+  }
 }
 
 }  // namespace

@@ -10,6 +10,9 @@
 #include "bdinterp/types.h"
 
 namespace bdinterp {
+namespace detail {
+class TreeSolve;
+}
 
 // The fill-reducing ordering and symbolic factor of one symmetric pattern. Immutable after
 // construction; any number of SparseCholesky objects on any threads may share it.
@@ -72,10 +75,22 @@ class SparseCholesky {
   // `values` (not necessarily the factorised one). Loops over both cores for large patterns.
   void multiply(const double* values, const double* x, double* y) const;
   // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may
-  // alias b. Throws SolverError without a valid factorisation.
+  // alias b. Throws SolverError without a valid factorisation. Split over the cores for simplicial
+  // factors from ~1k rows (the elimination tree's subtrees in parallel, see
+  // src/detail/tree_solve.h); serial solves are CHOLMOD's (its 2- and 3-column chains made it
+  // 1.0-1.3x faster than the split code run on one thread, 48k rows).
   void solve(const double* b, double* x, int ncols = 1);
+  // How solve() splits when `chunks` are allowed: the chunks used (1: serial), the share of nnz(L)
+  // left to the calling thread (the separators above the subtrees), and the share on the critical
+  // path (those plus the heaviest chunk; 1 / chunks at best). Diagnostics and tests.
+  struct SolveSplit {
+    int chunks = 1;
+    double serial_share = 1.0, critical_share = 1.0;
+  };
+  SolveSplit solve_split(int chunks);
 
  private:
+  detail::TreeSolve* tree_solve(int chunks);  // the split for `chunks`, or null: serial
   struct Impl;
   std::shared_ptr<const CholeskyAnalysis> analysis_;
   std::unique_ptr<Impl> impl_;
