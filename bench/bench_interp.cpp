@@ -384,7 +384,7 @@ int main(int argc, char** argv) {
   std::printf("columns: cold/fl, warm/fl = frame time / floor (targets <= 4, <= 1.5); newton_c/_w = Newton "
               "steps per cold/warm frame (chord steps included);\n         bake = frames(ts) with 2 "
               "threads, 101 frames; peak_B/v = peak RSS of a fresh process (build + 6 frames) per vertex.\n");
-  if (!busy.empty()) bench::print_busy_rows(busy, std::max(reps, 9), make);
+  if (!busy.empty()) bench::print_busy_rows(busy, std::max(reps, 15), make);
   benchmark::Shutdown();
   return 0;
 }
