@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -94,6 +95,22 @@ bool detail::LoadMean::add(int others, int cores) {
 bool detail::LateMean::add(bool late) {
   mean_ = 0.875 * mean_ + (late ? 0.125 : 0.0);
   return late && mean_ >= 0.2;
+}
+
+double detail::busy_arithmetic(int rounds) {
+  // 24 independent chains of a multiply and an add keep the floating-point units busy (2 x 24 operations
+  // per ~6 cycles of latency): a few chains would only wait on their own latency and leave room for
+  // a hyper-threaded sibling, which could then not be told from a core of its own.
+  double a[24];
+  for (int j = 0; j < 24; ++j) a[j] = 1.0 + 0.01 * j;
+  for (int r = 0; r < rounds; ++r) {
+    for (double& x : a) x = x * 0.9999999 + 1e-7;
+  }
+  double sum = 0;
+  for (double x : a) sum += x;
+  static std::atomic<double> sink{0};
+  sink.store(sum, std::memory_order_relaxed);
+  return sum;
 }
 
 }  // namespace bdinterp::parallel

@@ -60,6 +60,25 @@ constexpr auto kStale = std::chrono::seconds(1);
 // back-offs in 4 s: 0.99x the one-thread time; 0.74-0.90x without).
 constexpr auto kBackOff = std::chrono::milliseconds(50);
 constexpr auto kSlack = std::chrono::microseconds(50);
+// Whether a second core pays for small loops, measured every kProbeEvery while a worker spins: the
+// round trip of one cache line to it (the fastest of kProbeTrips; beyond far_round_trip_ns the cores
+// are far apart) and whether two threads really run at once (concurrent()). This VM's host moves
+// its two virtual cores between physical ones within seconds: round trips of 80-110 ns, 200-450 ns
+// (far apart) or 60-70 ns (one core's two hyper-threads). In the last two states frames that split
+// their loops took 1.2-1.9x the one-thread time at 1k vertices (1.0-1.2x at 5k): every fork/join and
+// every line the other core wrote paid for the distance, or two threads shared one core. Then loops
+// under kFarMinItems run serially on the calling thread (the same chunks, so the same bits) until
+// the next probe. Larger loops still use the pool: their chunks are long and their data is beyond
+// the cores' own caches anyway (warm 50k frames 0.68x the one-thread time at a 410 ns round trip,
+// against ~1.05x serially).
+constexpr auto kProbeEvery = std::chrono::milliseconds(100);
+constexpr long kFarMinItems = 20000;
+constexpr int kProbeTrips = 16;
+constexpr int kProbeRounds = 6000;  // busy_arithmetic: ~11 us
+std::atomic<int64_t> far_round_trip_ns{160};
+std::atomic<int> concurrent_limit{3};  // two chunks in less than 3/2 of one's time
+std::atomic<int64_t> last_round_trip_ns{-1};
+std::atomic<bool> last_concurrent{true};
 std::atomic<int64_t> serial_until{0};  // steady_clock ticks
 std::atomic<bool> busy{true};  // see kSample; until measured, the cautious guess
 std::atomic<int> computing{0};  // ThreadLimits alive that allow more than one thread: frames running
@@ -124,10 +143,22 @@ class Pool {
   }
 
   // False if another thread is using the pool (the caller then runs the chunks itself).
-  bool run(int chunks, detail::ChunkFn fn, void* context) {
+  bool run(int chunks, detail::ChunkFn fn, void* context, long items) {
     std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
     if (!job.owns_lock()) return false;
     grow(std::min(chunks, usable_cores()) - 1);
+    if (!cores_pay() && items < kFarMinItems) return false;
+    const auto [own, waited] = dispatch(chunks, fn, context);
+    if (late_.add(waited > own + ticks_of(kSlack)))
+      serial_until.store(ticks() + ticks_of(kBackOff), std::memory_order_relaxed);
+    return true;
+  }
+
+ private:
+  // Runs a job on the caller and the workers; returns the time of the caller's own chunks and of
+  // its wait for the others' (ticks). The caller spins `spin` before it sleeps.
+  std::pair<int64_t, int64_t> dispatch(int chunks, detail::ChunkFn fn, void* context,
+                                       std::chrono::microseconds spin = kShortSpin) {
     fn_ = fn;
     context_ = context;
     done_.store(0);
@@ -140,19 +171,96 @@ class Pool {
     const int64_t t0 = ticks();
     work(static_cast<uint32_t>(gen));
     const int64_t t1 = ticks();
-    if (!spin_until(kShortSpin, [&] { return done_.load(std::memory_order_acquire) == chunks; })) {
+    if (!spin_until(spin, [&] { return done_.load(std::memory_order_acquire) == chunks; })) {
       std::unique_lock<std::mutex> lock(m_);
       caller_waiting_ = true;
       finished_.wait(lock, [&] { return done_.load() == chunks; });
       caller_waiting_ = false;
     }
-    const int64_t t2 = ticks();
-    if (late_.add(t2 - t1 > t1 - t0 + ticks_of(kSlack)))
-      serial_until.store(t2 + ticks_of(kBackOff), std::memory_order_relaxed);
-    return true;
+    return {t1 - t0, ticks() - t1};
   }
 
- private:
+  // Whether splitting small loops pays (see kProbeEvery): the cores are near, and two of them
+  // really run at once. Probes when due (dispatch_ held, so no job is running). A probe needs a
+  // spinning worker: if none is, after a verdict "pays" this job runs on the pool (waking one) and
+  // the next call probes; after "does not pay" the workers are woken without a job and loops stay
+  // serial for another millisecond.
+  bool cores_pay() {
+    const int64_t now = ticks(), soon = now + ticks_of(std::chrono::milliseconds(1));
+    if (now < apart_until_) return false;
+    if (now < next_probe_) return true;
+    if (awake.load() == 0 || sleepers_.load() > 0) {
+      if (pay_) return true;
+      wake_workers();  // rather than jobs waking it one by one, a futex call each
+      next_probe_ = apart_until_ = soon;
+      return false;
+    }
+    const int64_t rt = round_trip_ns();
+    next_probe_ = rt < 0 ? soon : now + ticks_of(kProbeEvery);
+    if (rt < 0) return pay_;  // unanswered (the worker was descheduled): again in a millisecond
+    last_round_trip_ns.store(rt, std::memory_order_relaxed);
+    pay_ = rt <= far_round_trip_ns.load(std::memory_order_relaxed) && concurrent();
+    if (!pay_) apart_until_ = next_probe_;
+    return pay_;
+  }
+
+  // Publishes a job without chunks: sleeping workers wake up and spin (for a probe).
+  void wake_workers() {
+    state_.store(((state_.load() >> 32) + 1) << 32);
+    { std::lock_guard<std::mutex> lock(m_); }
+    wake_.notify_all();
+  }
+
+  // Whether two chunks of arithmetic, on the caller and a worker, take less than 1.5x as long as one
+  // on the caller (the best of two tries each, ~10 us a chunk): not so when the two cores are one
+  // physical core's two hyper-threads, as this VM's host sometimes makes them (round trips of 60-70
+  // ns then, against 80-110 ns; warm 1k frames split over them took 1.6-1.8x the one-thread time).
+  bool concurrent() {
+    int64_t one = INT64_MAX, two = INT64_MAX;
+    for (int k = 0; k < 2; ++k) {
+      int64_t t = ticks();
+      detail::busy_arithmetic(kProbeRounds);
+      one = std::min(one, ticks() - t);
+      t = ticks();
+      // Spinning: a caller put to sleep on a VM can wait milliseconds for its core (seen once per
+      // probe as 1.3-1.4x slower 1k frames while the cores were hyper-threads).
+      dispatch(2, [](void*, int) { detail::busy_arithmetic(kProbeRounds); }, nullptr, std::chrono::microseconds(500));
+      two = std::min(two, ticks() - t);
+    }
+    const bool at_once = two * 2 < one * concurrent_limit.load(std::memory_order_relaxed);
+    last_concurrent.store(at_once, std::memory_order_relaxed);
+    return at_once;
+  }
+
+  // The fastest of kProbeTrips round trips of ping_ to a spinning worker and back, in ns; -1 if
+  // one went unanswered for 20 us.
+  int64_t round_trip_ns() {
+    int64_t best = -1;
+    for (int k = 0; k < kProbeTrips; ++k) {
+      const uint32_t v = ping_.load();
+      const auto t0 = std::chrono::steady_clock::now();
+      ping_.store(v + 1);  // odd: a worker answers with v + 2
+      bool answered = false;
+      for (int spins = 0; !answered; ++spins) {
+        answered = ping_.load(std::memory_order_acquire) != v + 1;
+        if ((spins & 63) == 63 && std::chrono::steady_clock::now() - t0 > std::chrono::microseconds(20)) break;
+      }
+      const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
+      if (!answered) {
+        ping_.store(v + 2);  // withdrawn (a late answer's CAS then fails)
+        return -1;
+      }
+      best = best < 0 ? ns : std::min(best, ns);
+    }
+    return best;
+  }
+
+  // A spinning worker's side of round_trip_ns().
+  void answer_ping() {
+    uint32_t v = ping_.load(std::memory_order_relaxed);
+    if (v & 1) ping_.compare_exchange_strong(v, v + 1);
+  }
+
   // Claims and runs chunks of job `gen` until none is left.
   void work(uint32_t gen) {
     uint64_t s = state_.load(std::memory_order_acquire);
@@ -195,10 +303,11 @@ class Pool {
   // that moment, not from the last job, keeps a worker awake across the gap between back-to-back
   // frames (a slider drag, a script's loop) instead of waking it at the next frame's first loop.
   template <class Fresh>
-  static bool wait_for_job(Fresh&& fresh) {
+  bool wait_for_job(Fresh&& fresh) {
     auto since = std::chrono::steady_clock::now();
     for (int k = 0;; ++k) {
       if (fresh()) return true;
+      answer_ping();
       pause_cpu();
       if ((k & 63) != 63) continue;
       const auto now = std::chrono::steady_clock::now();
@@ -220,6 +329,10 @@ class Pool {
   std::mutex m_;         // for the sleeping side of the waits
   std::condition_variable wake_, finished_;
   std::atomic<uint64_t> state_{0};
+  alignas(64) std::atomic<uint32_t> ping_{0};  // odd: a round trip waiting for a worker's answer
+  alignas(64) int64_t next_probe_ = 0;  // ticks (guarded by dispatch_, as are the next two)
+  int64_t apart_until_ = 0;
+  bool pay_ = true;  // the last probe's verdict
   std::atomic<int> done_{0}, sleepers_{0};
   bool caller_waiting_ = false;  // guarded by m_
   detail::ChunkFn fn_ = nullptr;
@@ -231,6 +344,14 @@ class Pool {
 }  // namespace
 
 bool machine_busy() { return busy.load(std::memory_order_relaxed); }
+
+int64_t detail::core_round_trip_ns() { return last_round_trip_ns.load(std::memory_order_relaxed); }
+
+int64_t detail::swap_far_round_trip_ns(int64_t ns) { return far_round_trip_ns.exchange(ns); }
+
+bool detail::cores_run_at_once() { return last_concurrent.load(std::memory_order_relaxed); }
+
+int detail::swap_concurrent_limit(int twice_ratio) { return concurrent_limit.exchange(twice_ratio); }
 
 int loop_threads(long items) {
   if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
@@ -244,7 +365,7 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
   return {first, first + q + (chunk < r ? 1 : 0)};
 }
 
-void detail::run(int chunks, ChunkFn fn, void* context) {
+void detail::run(int chunks, ChunkFn fn, void* context, long items) {
   if (inside || forked.load(std::memory_order_relaxed)) {
     for (int k = 0; k < chunks; ++k) fn(context, k);
     return;
@@ -252,7 +373,7 @@ void detail::run(int chunks, ChunkFn fn, void* context) {
   load_probe.sample();
   if (!busy.load(std::memory_order_relaxed) && ticks() >= serial_until.load(std::memory_order_relaxed)) {
     inside = true;
-    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
+    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context, items);
     inside = false;
     if (ran) return;
   }
@@ -269,32 +390,6 @@ ThreadLimit::~ThreadLimit() {
   limit = saved_;
   if (counted_) computing.fetch_sub(1, std::memory_order_relaxed);
   if (saved_dynamic_ >= 0) detail::swap_omp_dynamic(saved_dynamic_);
-}
-
-void Partials::prepare(int threads, long size) {
-  threads_ = threads;
-  size_ = size;
-  if (static_cast<int>(parts_.size()) < threads - 1) parts_.resize(threads - 1);
-  for (int k = 0; k + 1 < threads; ++k) parts_[k].resize(size);
-}
-
-void Partials::add_into(double* target) const {
-  for (int k = 0; k + 1 < threads_; ++k) {
-    const double* p = parts_[k].data();
-    for (long i = 0; i < size_; ++i) target[i] += p[i];
-  }
-}
-
-double PerChunk::sum() const {
-  double s = 0;
-  for (const Slot& v : values_) s += v.value;
-  return s;
-}
-
-double PerChunk::max() const {
-  double m = values_[0].value;
-  for (const Slot& v : values_) m = std::max(m, v.value);
-  return m;
 }
 
 }  // namespace bdinterp::parallel

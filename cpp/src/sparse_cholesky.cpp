@@ -187,22 +187,25 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
   const int threads = parallel::loop_threads(col_ptr[n] / 4);
   parallel::Partials& parts = impl_->product_parts;
   parts.prepare(threads, n);
-  parallel::run(threads, [&](int k) {
-    double* out = parts.buffer(k, y);
-    std::fill_n(out, n, 0.0);
-    const auto [first, last] = parallel::share(n, k, threads);
-    for (int j = first; j < last; ++j) {
-      const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
-      double acc = values[p0] * x[j];  // diagonal first in every column
-      const double xj = x[j];
-      for (int p = p0 + 1; p < p1; ++p) {
-        const int i = rows[p];
-        acc += values[p] * x[i];
-        out[i] += values[p] * xj;
-      }
-      out[j] += acc;
-    }
-  });
+  parallel::run(
+      threads,
+      [&](int k) {
+        double* out = parts.buffer(k, y);
+        std::fill_n(out, n, 0.0);
+        const auto [first, last] = parallel::share(n, k, threads);
+        for (int j = first; j < last; ++j) {
+          const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
+          double acc = values[p0] * x[j];  // diagonal first in every column
+          const double xj = x[j];
+          for (int p = p0 + 1; p < p1; ++p) {
+            const int i = rows[p];
+            acc += values[p] * x[i];
+            out[i] += values[p] * xj;
+          }
+          out[j] += acc;
+        }
+      },
+      n);
   parts.add_into(y);
 }
 

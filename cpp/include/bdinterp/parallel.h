@@ -10,6 +10,7 @@
 // the serial loop by more than the wake-up, and results do not depend on who ran which chunk.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,7 +38,21 @@ std::pair<long, long> share(long n, int chunk, int chunks);
 
 namespace detail {
 using ChunkFn = void (*)(void* context, int chunk);
-void run(int chunks, ChunkFn fn, void* context);
+// The last measured round trip of a cache line between a thread starting a loop and a spinning
+// pool worker, in ns (-1 before the first). Beyond the threshold (160 ns; the previous value is
+// returned by the swap, for tests) loops run serially on their calling thread until the next
+// measurement, 100 ms later: see kProbeEvery in parallel.cpp.
+int64_t core_round_trip_ns();
+int64_t swap_far_round_trip_ns(int64_t ns);
+// Whether the last probe found two threads running at once (two chunks of arithmetic on the caller
+// and a worker in less than 1.5x the time of one; not so on one core's two hyper-threads): small
+// loops run serially until the next probe otherwise. The limit is twice that ratio (3; for tests).
+bool cores_run_at_once();
+int swap_concurrent_limit(int twice_ratio);
+// ~rounds x 48 floating-point operations with no memory traffic (the probe's chunk); returns a
+// value that depends on all of them.
+double busy_arithmetic(int rounds);
+void run(int chunks, ChunkFn fn, void* context, long items);
 // Runnable threads on the machine now (the kernel's count from /proc/loadavg, the caller
 // included), or -1 if unknown.
 int runnable_threads();
@@ -76,22 +91,27 @@ class LateMean {
 // returns when all have returned. Chunks may run in any order and on any thread; a body must only
 // depend on its chunk index (results are then bit-identical for a given number of chunks). Bodies
 // must not throw. Nested or concurrent calls run their chunks serially on the calling thread.
+// items: the loop's size (0: unknown, counted as small); while the cores are far apart (see
+// detail::core_round_trip_ns) only loops of at least 20000 items use the pool.
 template <class Body>
-void run(int chunks, Body&& body) {
+void run(int chunks, Body&& body, long items = 0) {
   if (chunks <= 1) {
     body(0);
     return;
   }
-  detail::run(chunks, [](void* c, int k) { (*static_cast<Body*>(c))(k); }, &body);
+  detail::run(chunks, [](void* c, int k) { (*static_cast<Body*>(c))(k); }, &body, items);
 }
 
 // for (i in [0, n)) body(chunk, i), split into `chunks` contiguous shares (see share()).
 template <class Body>
 void for_each(int chunks, long n, Body&& body) {
-  run(chunks, [&](int k) {
-    const auto [first, last] = share(n, k, chunks);
-    for (long i = first; i < last; ++i) body(k, i);
-  });
+  run(
+      chunks,
+      [&](int k) {
+        const auto [first, last] = share(n, k, chunks);
+        for (long i = first; i < last; ++i) body(k, i);
+      },
+      n);
 }
 
 // While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
