@@ -9,7 +9,6 @@
 
 namespace bdinterp::detail {
 namespace {
-constexpr double kTwoPi = 6.28318530717958647692;
 constexpr double kHalfPi = 1.57079632679489661923;
 using FaceSlots = FlattenPlan::FaceSlots;
 

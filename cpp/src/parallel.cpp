@@ -240,11 +240,8 @@ class Pool {
       const uint32_t v = ping_.load();
       const auto t0 = std::chrono::steady_clock::now();
       ping_.store(v + 1);  // odd: a worker answers with v + 2
-      bool answered = false;
-      for (int spins = 0; !answered; ++spins) {
-        answered = ping_.load(std::memory_order_acquire) != v + 1;
-        if ((spins & 63) == 63 && std::chrono::steady_clock::now() - t0 > std::chrono::microseconds(20)) break;
-      }
+      const bool answered = spin_until(std::chrono::microseconds(20),
+                                       [&] { return ping_.load(std::memory_order_acquire) != v + 1; });
       const int64_t ns = std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now() - t0).count();
       if (!answered) {
         ping_.store(v + 2);  // withdrawn (a late answer's CAS then fails)

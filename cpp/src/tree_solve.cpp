@@ -29,13 +29,12 @@ Tree elimination_tree(const FactorView& L) {
   for (int j = 0; j < n; ++j) {  // children come before their parents
     const int p0 = L.p[j], p1 = p0 + L.nz[j];
     if (L.nz[j] < 1 || L.i[p0] != j) return {};
-    int parent = n;
     for (int q = p0 + 1; q < p1; ++q) {  // rows sorted, below the diagonal
       if (L.i[q] <= L.i[q - 1] || L.i[q] >= n) return {};
     }
-    if (L.nz[j] > 1) parent = L.i[p0 + 1];
     t.work[j] += L.nz[j];
-    if (parent == n) continue;
+    if (L.nz[j] == 1) continue;  // a root
+    const int parent = L.i[p0 + 1];
     t.parent[j] = parent;
     t.work[parent] += t.work[j];
     count[parent] += count[j];

@@ -1,7 +1,9 @@
 // Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
 // chunks run by a small pool of its own (std::thread; idle workers spin through a frame while the
 // machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
-// solves one frame per core.
+// solves one frame per core. The triangular solves split the same way (src/detail/tree_solve.h).
+// Loops run serially on their calling thread, with the same chunks, while other programs take the
+// cores (machine_busy) and, when small, while the two cores do not pay (detail::core_round_trip_ns).
 //
 // Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
 // split made every loop wait for the thread that shared its core, and its threads spin while they

@@ -77,8 +77,8 @@ class SparseCholesky {
   // Solves A X = B for ncols right-hand sides stored column after column (n*ncols doubles). x may
   // alias b. Throws SolverError without a valid factorisation. Split over the cores for simplicial
   // factors from ~1k rows (the elimination tree's subtrees in parallel, see
-  // src/detail/tree_solve.h); serial solves are CHOLMOD's (its 2- and 3-column chains made it
-  // 1.0-1.3x faster than the split code run on one thread, 48k rows).
+  // src/detail/tree_solve.h); serial solves are CHOLMOD's (1.0-1.1x faster than the split code
+  // run on one thread, 48k rows).
   void solve(const double* b, double* x, int ncols = 1);
   // How solve() splits when `chunks` are allowed: the chunks used (1: serial), the share of nnz(L)
   // left to the calling thread (the separators above the subtrees), and the share on the critical

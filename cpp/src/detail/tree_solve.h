@@ -36,9 +36,8 @@ class TreeSolve {
 
   bool usable() const { return usable_; }
   int bins() const { return static_cast<int>(bins_.size()); }
-  // Columns done on the calling thread, their share of nnz(L), and the share of nnz(L) on the
-  // critical path (the top and the heaviest bin; 1 / bins at best). Diagnostics, tests.
-  int top_columns() const { return static_cast<int>(top_.size()); }
+  // The share of nnz(L) done on the calling thread, and on the critical path (the top and the
+  // heaviest bin; 1 / bins at best). Diagnostics, tests.
   double top_share() const { return top_share_; }
   double critical_share() const { return critical_share_; }
 
@@ -46,7 +45,7 @@ class TreeSolve {
   // the numeric values of `L` (same pattern as at construction), ncols <= kMaxColumns. x may alias b.
   void solve(const FactorView& L, const double* b, double* x, int ncols);
 
- struct Range {
+  struct Range {
     int first, last;  // columns first..last (a whole subtree: last is its root)
   };
 

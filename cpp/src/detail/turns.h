@@ -7,7 +7,7 @@
 #include "bdinterp/triangle.h"
 
 namespace bdinterp::detail {
-constexpr double kTurn = 6.28318530717958647692;
+constexpr double kTwoPi = 6.28318530717958647692;
 
 // Rescales (re, im) by a power of two (exactly) before it could overflow or underflow.
 inline void keep_in_range(double& re, double& im) {
@@ -26,14 +26,14 @@ inline void keep_in_range(double& re, double& im) {
 // it could overflow or underflow.
 inline void turn(double& re, double& im, double& sum, double a, double b) {
   double nr = re * a - im * b, ni = re * b + im * a;
-  sum += (im < 0 && !(ni < 0)) ? kTurn : 0.0;
+  sum += (im < 0 && !(ni < 0)) ? kTwoPi : 0.0;
   keep_in_range(nr, ni);
   re = nr;
   im = ni;
 }
 
 // The argument of (re, im) in [0, 2 pi), classified by the sign of im as turn() does.
-inline double argument(double re, double im) { return fast_atan2(im, re) + (im < 0 ? kTurn : 0.0); }
+inline double argument(double re, double im) { return fast_atan2(im, re) + (im < 0 ? kTwoPi : 0.0); }
 
 // Multiplies the running product (re, im), argument in [0, 2 pi) classified as argument() does,
 // by another such product (re2, im2), adding 2 pi to `sum` when the arguments' sum reaches 2 pi:
@@ -48,7 +48,7 @@ inline void combine_turns(double& re, double& im, double& sum, double re2, doubl
   const bool wraps = lower && lower2 ? true
                      : lower != lower2 ? !(ni < 0)
                                        : im == 0 && re < 0 && im2 == 0 && re2 < 0;
-  sum += wraps ? kTurn : 0.0;
+  sum += wraps ? kTwoPi : 0.0;
   keep_in_range(nr, ni);
   re = nr;
   im = ni;
