@@ -13,7 +13,7 @@ EXTENSION_ZIP = dist/bdinterp_blender-$(VERSION)-extension.zip
 LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
 .PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
-        test-blender-43 test-wheel gallery bench clean
+        test-blender-43 test-blender-52 test-toolchain-sid test-wheel gallery bench clean
 
 setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
@@ -26,7 +26,7 @@ build: setup      ## C++ library, tests and the in-tree Python module
 install: setup    ## the Python package bdinterp (with its compiled module) for /usr/bin/python3
 	CMAKE_BUILD_PARALLEL_LEVEL=$(JOBS) $(PIP_INSTALL) .
 
-portable: setup   ## the shipped _core modules (CPython 3.11, 3.13; linux-x64) built in Debian 11 (root)
+portable: setup   ## the shipped _core modules (CPython 3.11, 3.13, 3.14; linux-x64) built in Debian 11 (root)
 	bash scripts/build-portable.sh $(PORTABLE)
 
 addon: portable   ## dist/: legacy zip, extension zip, wheels; prints the .so audit table
@@ -58,12 +58,19 @@ test-blender: addon  ## Blender 3.4 (Debian 12) on the legacy zip, host SuiteSpa
 	    --python tests/blender/run_blender_tests.py -- -q --zip $(LEGACY_ZIP)
 
 test-blender-43: addon  ## Blender 4.3 / Python 3.13 in a Debian 13 chroot on the extension zip
-	bash scripts/test-blender-chroot.sh $(EXTENSION_ZIP) -q
+	bash scripts/test-blender-chroot.sh trixie $(EXTENSION_ZIP) -q
+
+test-blender-52: addon  ## Blender 5.2 LTS / Python 3.14 in a Debian unstable chroot on the extension zip
+	bash scripts/test-blender-chroot.sh sid $(EXTENSION_ZIP) -q
+
+test-toolchain-sid: setup  ## C++ and Python tests with Eigen 5, SuiteSparse 7, pybind11 3, numpy 2 (sid chroot)
+	bash scripts/test-toolchain-chroot.sh -q
 
 test-wheel: addon  ## `pip wheel .` and the portable wheel install into a Python without SuiteSparse
 	bash scripts/test-wheel.sh $(BUILD)/wheel-test
 
-test: test-cpp test-python test-blender test-blender-43 test-wheel fuzz asan  ## everything CI runs
+test: test-cpp test-python test-blender test-blender-43 test-blender-52 test-toolchain-sid test-wheel \
+      fuzz asan  ## everything CI runs
 
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py

@@ -1,5 +1,5 @@
 # A Python extension module from headers only (no interpreter of that version needed, so one
-# Debian 11 chroot builds for 3.11 and 3.13): BDINTERP_PYTHON_INCLUDE_DIR (Python.h),
+# Debian 11 chroot builds for 3.11, 3.13 and 3.14): BDINTERP_PYTHON_INCLUDE_DIR (Python.h),
 # BDINTERP_PYBIND11_INCLUDE_DIR (pybind11/pybind11.h), BDINTERP_PYTHON_EXT_SUFFIX
 # (e.g. .cpython-313-x86_64-linux-gnu.so).
 function(bdinterp_headers_only_module name)

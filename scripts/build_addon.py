@@ -4,12 +4,14 @@
     /usr/bin/python3 scripts/build_addon.py [--portable build/portable] [--core DIR] [--out dist]
 
 From the one source tree addon/bdinterp_blender/ and the portable modules of
-scripts/build-portable.sh (PORTABLE/py311/_core*.so, PORTABLE/py313/..., PORTABLE/licenses/):
+scripts/build-portable.sh (PORTABLE/py311/_core*.so, PORTABLE/py313/..., PORTABLE/py314/...,
+PORTABLE/licenses/):
   dist/bdinterp_blender-<ver>-legacy-py311.zip  legacy add-on (bl_info), Blender 3.4-4.1: the
       package private to the add-on as bdinterp_blender/_vendor/bdinterp (Python 3.11 module)
   dist/bdinterp_blender-<ver>-extension.zip     extension (blender_manifest.toml), Blender 4.2+:
       ./wheels/ holds one bdinterp wheel per Python (3.11 for 4.2-5.0, 3.13 for 5.1+ and
-      Debian 13's 4.3), listed in the manifest; Blender installs the one its Python takes
+      Debian 13's 4.3, 3.14 for Debian's 5.2), listed in the manifest; Blender installs the one
+      its Python takes
   dist/bdinterp-<ver>-cpXY-cpXY-manylinux_2_31_x86_64.whl   those wheels, for pip
 Every shipped .so is audited (scripts/audit_so.py prints the table; a violation fails the build).
 --core DIR (development only): a legacy zip around DIR's compiled module, e.g. `make build`'s
@@ -58,7 +60,7 @@ def dotted(tag):
 
 
 def portable_modules(portable):
-    """{'311': path, '313': path} of the portable build; dies if 3.11 is missing."""
+    """{'311': path, '313': path, '314': path} of the portable build; dies if 3.11 is missing."""
     mods = {python_of(p): p for p in glob.glob(os.path.join(portable, "py3*", "_core*.so"))}
     if LEGACY_PYTHON not in mods:
         die("no portable module for Python 3.11 in %s: run scripts/build-portable.sh" % portable)

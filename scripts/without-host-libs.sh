@@ -8,16 +8,10 @@ set -euo pipefail
 if [ "${BDI_LIBS_HIDDEN:-}" != 1 ]; then
   exec unshare -m --propagation private env BDI_LIBS_HIDDEN=1 "$0" "$@"
 fi
-empty=$(mktemp)
-hidden=0
-for lib in cholmod amd camd colamd ccolamd suitesparseconfig metis; do
-  for f in /usr/lib/x86_64-linux-gnu/lib$lib.so.*; do
-    if [ -f "$f" ] && [ ! -L "$f" ]; then mount --bind "$empty" "$f"; hidden=$((hidden + 1)); fi
-  done
-done
+. "$(dirname "$0")/hide-libs.sh"
+hide_suitesparse /
 # The proof that hiding works: the host's CHOLMOD must not load here.
 if /usr/bin/python3 -c 'import ctypes; ctypes.CDLL("libcholmod.so.3")' 2>/dev/null; then
   echo "without-host-libs: libcholmod.so.3 still loads" >&2; exit 1
 fi
-echo "without-host-libs: $hidden SuiteSparse/METIS files hidden"
 "$@"

@@ -9,7 +9,7 @@ scripting facade) -> properties, operators -> ui -> this file (registration).
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "timing", "mesh_io", "solve", "playback", "live", "distortion",
+    for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
                   "baking", "api", "properties", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])

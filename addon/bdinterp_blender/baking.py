@@ -7,7 +7,7 @@ module that writes baked shape keys.
 import json
 import time
 
-from . import mesh_io, playback, solve, timing
+from . import actions, mesh_io, playback, solve, timing
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .solve import Inputs, max_distortion
 
@@ -168,7 +168,7 @@ def _factor_curve(obj):
     fc = anim.drivers.find("bdi.live_factor")
     if fc is not None:
         return "driver", fc
-    fc = anim.action.fcurves.find("bdi.live_factor") if anim.action else None
+    fc = actions.find_fcurve(anim, "bdi.live_factor")
     return ("action", fc) if fc is not None else (None, None)
 
 
@@ -190,10 +190,7 @@ def bake_live(obj, count=None):
         obj.driver_remove(path)
         _copy_fcurve(curve, obj.driver_add(path))
     elif kind == "action":
-        old = obj.animation_data.action.fcurves.find(path)
-        if old is not None:
-            obj.animation_data.action.fcurves.remove(old)
-        _copy_fcurve(curve, obj.animation_data.action.fcurves.new(path))
+        _copy_fcurve(curve, actions.new_fcurve(obj.animation_data, path))
     _live_off(obj)
     result.note = (result.note + "; " if result.note else "") + (
         "the slider %r plays it (%s)" % (result.slider, {"driver": "driven like the live factor",
@@ -217,8 +214,7 @@ def _weights_per_frame(obj, props, frames):
     anim = obj.animation_data
     paths = ["bdi.poses[%d].weight" % i for i in range(len(props.poses))]
     if anim is None or not any(anim.drivers.find(p) for p in paths):
-        curves = [anim.action.fcurves.find(p) if anim is not None and anim.action else None
-                  for p in paths]
+        curves = [actions.find_fcurve(anim, p) for p in paths]
         return [tuple(c.evaluate(f) if c is not None else p.weight for c, p in zip(curves, props.poses))
                 for f in frames]
     scene, out = bpy.context.scene, []
@@ -277,5 +273,5 @@ def _keyframe_steps(kb, frames, values):
             kb.keyframe_insert("value", frame=f)
             last = v
     path = kb.path_from_id("value")
-    for kp in kb.id_data.animation_data.action.fcurves.find(path).keyframe_points:
+    for kp in actions.find_fcurve(kb.id_data.animation_data, path).keyframe_points:
         kp.interpolation = 'CONSTANT'

@@ -26,7 +26,7 @@ _PACKAGE = __name__.rpartition(".")[0]  # 'bdinterp_blender' or 'bl_ext.<repo>.b
 
 def build_info():
     """What the zip was built with (written by scripts/build_addon.py), or {} for a source checkout.
-    Keys: version, platform, pythons (['3.11', '3.13']), layout ('legacy' | 'extension')."""
+    Keys: version, platform, pythons (['3.11', '3.13', '3.14']), layout ('legacy' | 'extension')."""
     try:
         with open(os.path.join(_HERE, "build_info.json"), encoding="utf-8") as f:
             return json.load(f)

@@ -9,7 +9,7 @@ renamed, and reported stale after the target is edited.
 
 import hashlib
 
-from . import timing
+from . import actions, timing
 from .names import BAKES_PROP, SLIDER_SUFFIX
 
 
@@ -100,9 +100,7 @@ def _driven_by(kb, obj, prop):
 def own_animation(obj, kb, prop):
     """Why the slider must not take over kb's value ('' if it may): keyframes, a driver that is
     not ours, or a value set by hand."""
-    anim = kb.id_data.animation_data
-    path = kb.path_from_id("value")
-    if anim and anim.action and anim.action.fcurves.find(path):
+    if actions.find_fcurve(kb.id_data.animation_data, kb.path_from_id("value")):
         return "key %r has keyframes of its own" % kb.name
     if _driver_of(kb) is not None and not _driven_by(kb, obj, prop):
         return "key %r has a driver of its own" % kb.name

@@ -3,6 +3,7 @@
 #include <cholmod.h>
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <string>
 
@@ -53,10 +54,28 @@ void check(const cholmod_common& common, const char* what) {
   }
 }
 
+// Throws SolverError unless CHOLMOD's calls reach the CHOLMOD this code was compiled for. Another
+// one in the process (Debian's Blender 5.2 loads SuiteSparse 7's through Ceres) can take the calls
+// of a CHOLMOD linked shared, and its structs differ: the shipped modules link theirs hidden.
+void check_runtime_version() {
+  static const std::array<int, 3> runtime = [] {
+    std::array<int, 3> v{};
+    cholmod_version(v.data());
+    return v;
+  }();
+  if (runtime[0] != CHOLMOD_MAIN_VERSION || runtime[1] != CHOLMOD_SUB_VERSION) {
+    throw SolverError("bdinterp was built for CHOLMOD " + std::to_string(CHOLMOD_MAIN_VERSION) + "." +
+                      std::to_string(CHOLMOD_SUB_VERSION) + ", but its calls reach CHOLMOD " +
+                      std::to_string(runtime[0]) + "." + std::to_string(runtime[1]) +
+                      " (another library in this process); use a build that links CHOLMOD statically");
+  }
+}
+
 // A CHOLMOD handle configured by configure(); finished on destruction.
 struct Common {
   cholmod_common c{};
   explicit Common(int n) {
+    check_runtime_version();
     cholmod_start(&c);
     configure(c, n);
   }

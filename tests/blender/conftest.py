@@ -112,10 +112,23 @@ def add_key(obj, name, co, relative=None):
     if obj.data.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)
     kb = obj.shape_key_add(name=name, from_mix=False)
+    kb.value = 0.0  # Blender 5.0+ gives a new key the value 1
     kb.data.foreach_set("co", np.asarray(co, dtype=np.float32).ravel())
     if relative:
         kb.relative_key = obj.data.shape_keys.key_blocks[relative]
     return kb
+
+
+def fcurve(anim, path):
+    """The F-curve of `path` in AnimData `anim`'s action (any Blender: legacy or slotted)."""
+    from bdinterp_blender.actions import find_fcurve
+    return find_fcurve(anim, path)
+
+
+def fcurves(anim):
+    """Every F-curve of AnimData `anim`'s action that animates its ID."""
+    from bdinterp_blender.actions import all_fcurves
+    return all_fcurves(anim)
 
 
 def grid(nx, ny, w, h, x0=0.0, y0=0.0):

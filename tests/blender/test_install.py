@@ -80,10 +80,10 @@ def test_extension_zip_lists_a_wheel_per_python(addon):
     assert manifest["license"] == ["SPDX:GPL-3.0-or-later"]
     tags = sorted(re.search(r"-(cp\d+)-cp\d+-manylinux_2_31_x86_64\.whl$", w).group(1)
                   for w in manifest["wheels"])
-    assert tags == ["cp311", "cp313"] and info["pythons"] == ["3.11", "3.13"]
+    assert tags == ["cp311", "cp313", "cp314"] and info["pythons"] == ["3.11", "3.13", "3.14"]
     assert all(w[2:] in names for w in manifest["wheels"])  # './wheels/...'
     assert "__init__.py" in names and not any(n.startswith("_vendor/") for n in names)
-    assert "LICENSE" in names and "licenses/libcholmod3.copyright" in names
+    assert "LICENSE" in names and "licenses/suitesparse.copyright" in names
     with zipfile.ZipFile(legacy) as zf:
         names = zf.namelist()
     assert all(n.startswith("bdinterp_blender/") for n in names)

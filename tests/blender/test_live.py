@@ -7,8 +7,8 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import (TOL, add_key, bent_strip, evaluated_co, maxdiff, read_key, run_blender,
-                      triangles, two_pieces)
+from conftest import (TOL, add_key, bent_strip, evaluated_co, fcurve, fcurves, maxdiff, read_key,
+                      run_blender, triangles, two_pieces)
 
 FRAMES = (1, 3, 6, 8, 11)
 
@@ -17,32 +17,32 @@ def keyframe_factor(obj, values):
     for frame, value in values.items():
         obj.bdi.live_factor = value
         obj.keyframe_insert("bdi.live_factor", frame=frame)
-    return obj.animation_data.action.fcurves.find("bdi.live_factor")
+    return fcurve(obj.animation_data, "bdi.live_factor")
 
 
-def check_frames(bd, obj, fcurve):
+def check_frames(bd, obj, curve):
     S, T, faces = read_key(obj, "Basis"), read_key(obj, "Bend"), triangles(obj)
     for frame in FRAMES:
         bpy.context.scene.frame_set(frame)
-        t = fcurve.evaluate(frame)
+        t = curve.evaluate(frame)
         assert maxdiff(evaluated_co(obj), bd.interpolate(S, T, faces, t)) < TOL, frame
 
 
 def test_live_follows_keyframed_factor_and_survives_reload(addon, bd, tmp_path):
     obj = bent_strip()
     obj.bdi.target = "Bend"
-    fcurve = keyframe_factor(obj, {1: 0.0, 6: 0.7, 11: 1.0})
+    curve = keyframe_factor(obj, {1: 0.0, 6: 0.7, 11: 1.0})
     obj.bdi.live = True
     assert obj.bdi.live and not obj.bdi.live_error
     live_key = obj.data.shape_keys.key_blocks["bdi.live"]
     assert live_key.relative_key.name == "Basis" and live_key.value == 1.0
-    check_frames(bd, obj, fcurve)
+    check_frames(bd, obj, curve)
     path = os.path.join(str(tmp_path), "live.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)
     bpy.ops.wm.open_mainfile(filepath=path)
     obj = bpy.data.objects["Strip"]
     assert obj.bdi.live
-    check_frames(bd, obj, obj.animation_data.action.fcurves.find("bdi.live_factor"))
+    check_frames(bd, obj, fcurve(obj.animation_data, "bdi.live_factor"))
 
 
 def test_live_factor_change_updates_without_frame_change(addon, bd):
@@ -141,7 +141,7 @@ def test_live_renders_with_blender_b_a(addon, bd, tmp_path):
         for f in (1, 2, 3):
             kb.value = 1.0 if f == frame else 0.0
             kb.keyframe_insert("value", frame=f)
-    for fc in obj.data.shape_keys.animation_data.action.fcurves:
+    for fc in fcurves(obj.data.shape_keys.animation_data):
         for kp in fc.keyframe_points:
             kp.interpolation = 'CONSTANT'
     ref_path = os.path.join(tmp, "ref.blend")

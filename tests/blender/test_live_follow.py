@@ -5,7 +5,8 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import TOL, bent_strip, evaluated_co, key_names, maxdiff, read_key, triangles
+from conftest import (TOL, bent_strip, evaluated_co, fcurve, key_names, maxdiff, read_key,
+                      triangles)
 
 
 def expected(bd, obj, t, target="Bend"):
@@ -41,15 +42,15 @@ def live_strip_keyframed(addon, last_frame):
 def test_fcurve_edit_updates_mesh_without_frame_change(addon, bd):
     obj = live_strip_keyframed(addon, 11)
     bpy.context.scene.frame_set(6)
-    fcurve = obj.animation_data.action.fcurves.find("bdi.live_factor")
-    assert maxdiff(evaluated_co(obj), expected(bd, obj, fcurve.evaluate(6))) < TOL
-    before = fcurve.evaluate(6)
-    fcurve.keyframe_points[1].co.y = 0.4  # as a drag in the Graph Editor
-    fcurve.keyframe_points[1].handle_left.y = fcurve.keyframe_points[1].handle_right.y = 0.4
-    fcurve.update()
+    curve = fcurve(obj.animation_data, "bdi.live_factor")
+    assert maxdiff(evaluated_co(obj), expected(bd, obj, curve.evaluate(6))) < TOL
+    before = curve.evaluate(6)
+    curve.keyframe_points[1].co.y = 0.4  # as a drag in the Graph Editor
+    curve.keyframe_points[1].handle_left.y = curve.keyframe_points[1].handle_right.y = 0.4
+    curve.update()
     obj.animation_data.action.update_tag() if hasattr(bpy.types.Action, "update_tag") else None
     bpy.context.view_layer.update()
-    t = fcurve.evaluate(6)
+    t = curve.evaluate(6)
     assert abs(t - before) > 0.05  # the edit changed the factor at this frame
     assert maxdiff(evaluated_co(obj), expected(bd, obj, t)) < TOL
 
@@ -101,8 +102,8 @@ def test_bake_live_to_keys(addon, bd):
     bpy.context.view_layer.objects.active = obj
     assert bpy.ops.bdinterp.bake_live() == {'FINISHED'}
     assert not obj.bdi.live and "bdi.live" not in key_names(obj)
-    factor = obj.animation_data.action.fcurves.find("bdi.live_factor")
-    slider = obj.animation_data.action.fcurves.find('["Bend.bdi"]')
+    factor = fcurve(obj.animation_data, "bdi.live_factor")
+    slider = fcurve(obj.animation_data, '["Bend.bdi"]')
     assert slider is not None
     for frame in (1, 3, 5, 9):
         assert slider.evaluate(frame) == pytest.approx(factor.evaluate(frame), abs=1e-6)
@@ -155,7 +156,7 @@ def test_bake_live_pose_blend_to_keyframed_keys(addon, bd):
         poses[0].weight, poses[1].weight = a, b
         obj.keyframe_insert("bdi.poses[0].weight", frame=frame)
         obj.keyframe_insert("bdi.poses[1].weight", frame=frame)
-    curves = [obj.animation_data.action.fcurves.find("bdi.poses[%d].weight" % i) for i in (0, 1)]
+    curves = [fcurve(obj.animation_data, "bdi.poses[%d].weight" % i) for i in (0, 1)]
     expected_w = {f: (curves[0].evaluate(f), curves[1].evaluate(f)) for f in range(1, 7)}
     result = addon.bake_live(obj)
     assert not obj.bdi.live and "bdi.live" not in key_names(obj)

@@ -5,8 +5,8 @@ import os
 import bpy
 import numpy as np
 
-from conftest import (TOL, bent_strip, evaluated_co, json_lines, maxdiff, read_key, run_blender,
-                      write_child_script)
+from conftest import (TOL, bent_strip, evaluated_co, fcurves, json_lines, maxdiff, read_key,
+                      run_blender, write_child_script)
 
 SLIDER_VALUES = [0.0, 0.1, 0.25, 0.4, 0.5, 0.6, 0.75, 0.9, 1.0]
 
@@ -96,7 +96,7 @@ def test_baked_file_plays_without_addon(addon, tmp_path):
     obj.keyframe_insert('["Bend.bdi"]', frame=1)
     obj["Bend.bdi"] = 1.0
     obj.keyframe_insert('["Bend.bdi"]', frame=11)
-    for kp in obj.animation_data.action.fcurves[0].keyframe_points:
+    for kp in fcurves(obj.animation_data)[0].keyframe_points:
         kp.interpolation = 'LINEAR'
     path = os.path.join(str(tmp_path), "baked.blend")
     bpy.ops.wm.save_as_mainfile(filepath=path)

@@ -6,7 +6,7 @@ import os
 
 from conftest import ROOT
 
-LAYERS = [["core", "names"], ["timing", "mesh_io"], ["solve"],
+LAYERS = [["core", "names", "actions"], ["timing", "mesh_io"], ["solve"],
           ["playback", "live", "distortion"], ["baking"], ["api"], ["properties", "operators"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}

@@ -249,7 +249,8 @@ def _star_obj(path, k=7, inner=0.35, z=None, comment=b""):
     a = np.pi * np.arange(2 * k) / k
     r = np.where(np.arange(2 * k) % 2 == 0, 1.0, inner)
     P = np.c_[r * np.cos(a), r * np.sin(a)]
-    lines = [comment] + [f"v {x!r} {y!r} {0.0 if z is None else z}".encode() for x, y in P]
+    lines = [comment] + [f"v {float(x)!r} {float(y)!r} {0.0 if z is None else z}".encode()
+                         for x, y in P]  # float(): numpy 2 writes np.float64(...) as repr
     lines.append(("f " + " ".join(str(i + 1) for i in range(2 * k))).encode())
     path.write_bytes(b"\n".join(lines) + b"\n")
     return P
