@@ -16,6 +16,7 @@
 #include "bdinterp/orientation.h"
 #include "bdinterp/still.h"
 #include "bdinterp/parallel.h"
+#include "bdinterp/rigid_motion.h"
 #include "detail/validation.h"
 #include "detail/warm_start.h"
 
@@ -58,6 +59,7 @@ struct Interpolator::PiecePlan {
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
   std::unique_ptr<const HoleSolver> holes;  // pieces with holes: flattening and layout (holes.h)
+  int geodesic_base = -1;      // blend_frames: the anchor on the motions' geodesic from this input
 
   // still: anchor on the parts that do not move between the inputs (still.h): the default anchor,
   // also the point an anchor path without a vertex moves.
@@ -74,6 +76,9 @@ struct Interpolator::PiecePlan {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
       frames.push_back(anchor.measure_input(X));
     }
+    // The default anchor (and a path's point) moves on the geodesic of the rigid motions; the
+    // paper's vertex anchor keeps its linear blend; a whole turn with a shift has none (rigid_motion.h).
+    if (still && anchor_vertex < 0 && has_geodesic(frames, base)) geodesic_base = base;
   }
 };
 
@@ -99,7 +104,7 @@ struct Interpolator::Workspace {
     const FlattenReport rep = holes ? holes->solve(l2w, u, X, opt, flatness, closure) : solve_disk(w, opt, flatness);
     if (holes) history.add(w, u);
     if (p.mirrored) X.col(0) *= -1.0;
-    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
+    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode, p.geodesic_base));
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
     return rep;
   }

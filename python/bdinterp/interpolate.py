@@ -76,8 +76,9 @@ class Interpolator:
     """Bounded-distortion in-betweens of k shapes with one connectivity, precomputed once.
 
     shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in the plane of shapes[base]); faces:
-    (m, 3) ints. anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a
-    vertex index (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start
+    (m, 3) ints. anchor: None/"auto" (per piece, what does not move, else the centroid, moved on
+    the geodesic of the rigid motions, docs/JOINTS.md), a vertex index (the paper's mode), or an
+    AnchorPath (two shapes). base: the shape the maps start
     from. tol: convergence tolerance on max |2 pi - angle sum| (radians, > 0); max_iterations: Newton
     steps before SolverError (>= 1); threads: cores to use (frames() splits a sequence over them, a
     single frame its loops; 0 = all cores, 1 = sequential). strict: a frame that fails the
