@@ -94,7 +94,7 @@ class Interpolator:
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
                  max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True):
-        shapes2d, self._plane = _validate.planar_shapes(shapes, base)
+        shapes2d, self._plane, self._layers = _validate.planar_shapes(shapes, base, mesh_faces=faces)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
@@ -107,19 +107,25 @@ class Interpolator:
         """The Plane of 3D input (results are mapped back into it), or None for 2D input."""
         return self._plane
 
-    def _out(self, uv):
-        return uv if self._plane is None else self._plane.to_space(uv)
+    @property
+    def layers(self):
+        """The Layers of 3D input (each loose part's depth along the plane's normal), or None."""
+        return self._layers
+
+    def _out(self, uv, weights):
+        return uv if self._layers is None else self._layers.to_space(uv, weights)
 
     def at(self, t):
         """The in-between at t (two shapes; finite, may lie outside [0, 1]); (n, d) like the inputs."""
-        return self._out(self._core.at(_validate.real(t, "t")))
+        t = _validate.real(t, "t")
+        return self._out(self._core.at(t), [1 - t, t])
 
     def blend(self, weights):
         """The bounded-distortion blend for weights (k,) summing to 1; (n, d)."""
         w = _validate.times(weights, "weights")
         if w.size != self._k:
             raise ValueError(f"weights must have one entry per shape ({self._k}), got {w.size}")
-        return self._out(self._core.blend(w))
+        return self._out(self._core.blend(w), w)
 
     def frames(self, ts):
         """In-betweens for a sequence of t (two shapes), each warm-started from the previous:
@@ -127,7 +133,11 @@ class Interpolator:
         ts = _validate.times(ts)
         out = np.empty((ts.size * self._n, 2))
         self._core.frames_into(ts.tolist(), out)
-        return self._out(out.reshape(ts.size, self._n, 2))
+        uv = out.reshape(ts.size, self._n, 2)
+        if self._layers is None:
+            return uv
+        return np.stack([self._out(x, [1 - t, t]) for x, t in zip(uv, ts)]) if ts.size else \
+            np.empty((0, self._n, 3))
 
     @property
     def threads(self):
@@ -172,7 +182,7 @@ def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
     if anchor not in (None, "auto") or options:
         given = ["anchor"] * (anchor not in (None, "auto")) + sorted(options)
         raise ValueError(f"{', '.join(given)} not supported with method={method!r}")
-    (s, g), plane = _validate.planar_shapes([source, target])
+    (s, g), _, layers = _validate.planar_shapes([source, target], mesh_faces=faces)
     f = _validate.faces(faces, s.shape[0])
     ts = _validate.times(ts)
     if method == "linear":
@@ -180,8 +190,10 @@ def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
     else:
         arap = _core.ArapInterpolator(s, g, f)
         uv = [arap.at(t) for t in ts.tolist()]
-    uv = np.stack(uv) if uv else np.empty((0,) + s.shape)
-    return uv if plane is None else plane.to_space(uv)
+    if layers is not None:
+        return np.stack([layers.to_space(x, [1 - t, t]) for x, t in zip(uv, ts)]) if uv else \
+            np.empty((0, s.shape[0], 3))
+    return np.stack(uv) if uv else np.empty((0,) + s.shape)
 
 
 def interpolate(source, target, faces, t, *, anchor=None, method="bdi"):
