@@ -33,6 +33,9 @@ void bind_options(py::module_& m) {
       .def_readwrite("folds", &InterpolatorOptions::folds,
                      "folded inputs: cut out and fill their fold region (docs/FOLDS.md); False: the "
                      "paper's method on the whole mesh")
+      .def_readwrite("joints", &InterpolatorOptions::joints,
+                     "pieces that overlap in the base shape stay joined where they overlap "
+                     "(docs/JOINTS.md); False: every piece placed on its own")
       .def_property_readonly_static(
           "MAX_THREADS", [](py::object) { return InterpolatorOptions::kMaxThreads; });
   flatten_field(cls, "tolerance", &FlattenOptions::tolerance,

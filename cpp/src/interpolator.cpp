@@ -11,6 +11,7 @@
 #include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
 #include "bdinterp/holes.h"
+#include "bdinterp/joints.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 #include "bdinterp/orientation.h"
@@ -32,7 +33,7 @@ void merge(FrameStats& into, const FrameStats& s) {
   merge(static_cast<FlattenReport&>(into), s);
   into.flatness = std::max(into.flatness, s.flatness);
   into.pieces = s.pieces;  // these three are the same for every frame of an Interpolator
-  into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices;
+  into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices, into.joints = s.joints;
   into.converged = into.converged && s.converged;
   if (into.warnings.empty()) into.warnings = s.warnings;
   into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
@@ -104,7 +105,9 @@ struct Interpolator::Workspace {
     const FlattenReport rep = holes ? holes->solve(l2w, u, X, opt, flatness, closure) : solve_disk(w, opt, flatness);
     if (holes) history.add(w, u);
     if (p.mirrored) X.col(0) *= -1.0;
-    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode, p.geodesic_base));
+    const Frame2 frame = blend_frames(p.frames, w, anchor_mode, p.geodesic_base);
+    angle = frame.angle;
+    p.anchor.place(X, frame);
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
     return rep;
   }
@@ -146,6 +149,7 @@ struct Interpolator::Workspace {
   detail::History history;
   Eigen::VectorXd u, l2w;
   Positions X;
+  double angle = 0;  // the anchor angle of the last frame (the joints turn children from it)
 };
 
 Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor,
@@ -185,6 +189,11 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
     plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av, still));
     workers_[0].push_back(std::make_unique<Workspace>(*plans_.back()));
+  }
+  if (options.joints && plans_.size() > 1) {
+    std::vector<JointPiece> parts;
+    for (const auto& p : plans_) parts.push_back({&p->piece.vertices, &p->piece.mesh.faces(), &p->frames});
+    joints_ = std::make_unique<const Joints>(unit, options.base, parts);
   }
 }
 
@@ -227,10 +236,16 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
 FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {
   FrameStats st;
   st.pieces = static_cast<int>(plans_.size());
+  std::vector<double> angles(plans_.size());
   for (size_t p = 0; p < plans_.size(); ++p) {
     double flat = 0;
     merge(st, workers_[worker][p]->solve(*plans_[p], w, options_.flatten, anchor_, out, &flat, st.hole_closure));
     st.flatness = std::max(st.flatness, flat);
+    angles[p] = workers_[worker][p]->angle;
+  }
+  if (joints_) {
+    joints_->apply(w, angles, out);
+    st.joints = joints_->size();
   }
   for (size_t k = 0; k < isolated_.size(); ++k) {
     out.row(isolated_[k]).setZero();

@@ -59,16 +59,16 @@ def _core_anchor(anchor, num_vertices, plane):
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
 
 
-def _options(base, tol, max_iterations, threads, strict, folds=True):
+def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True):
     o = _core.InterpolatorOptions()
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
     o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
-    for name, value in (("strict", strict), ("folds", folds)):
+    for name, value in (("strict", strict), ("folds", folds), ("joints", joints)):
         if not isinstance(value, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False, got {value!r}")
-    o.strict, o.folds = bool(strict), bool(folds)
+    o.strict, o.folds, o.joints = bool(strict), bool(folds), bool(joints)
     return o
 
 
@@ -86,19 +86,23 @@ class Interpolator:
     converged/warnings) raises SolverError instead of being returned with stats.converged False.
     folds: inputs with folded faces (folded_faces) are solved without their fold region, which is
     filled in so that the folded keys are reached (docs/FOLDS.md); False: the paper's method on the
-    whole mesh (folded keys are then missed).
+    whole mesh (folded keys are then missed). joints: pieces (loose parts) that overlap in the base
+    shape stay joined where they overlap, each child placed by its parent's in-between and turned by
+    its blended rotation relative to it (docs/JOINTS.md; stats.joints counts them); False: every
+    piece is placed on its own.
 
     Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
     taken with the GIL released); each returns what it would have returned alone.
     """
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
-                 max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True):
+                 max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True,
+                 joints=True):
         shapes2d, self._plane, self._layers = _validate.planar_shapes(shapes, base, mesh_faces=faces)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
-        options = _options(base, tol, max_iterations, threads, strict, folds)
+        options = _options(base, tol, max_iterations, threads, strict, folds, joints)
         self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._n, self._plane),
                                         options)
 
