@@ -192,8 +192,14 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   }
   if (options.joints && plans_.size() > 1) {
     std::vector<JointPiece> parts;
-    for (const auto& p : plans_) parts.push_back({&p->piece.vertices, &p->piece.mesh.faces(), &p->frames});
-    joints_ = std::make_unique<const Joints>(unit, options.base, parts);
+    int anchored = -1;  // the piece of a vertex anchor roots its group, so the anchor holds
+    for (const auto& p : plans_) {
+      const auto& vs = p->piece.vertices;
+      if (anchor.vertex >= 0 && std::find(vs.begin(), vs.end(), anchor.vertex) != vs.end())
+        anchored = static_cast<int>(parts.size());
+      parts.push_back({&vs, &p->piece.mesh.faces(), &p->frames});
+    }
+    joints_ = std::make_unique<const Joints>(unit, options.base, parts, anchored);
   }
 }
 
@@ -216,21 +222,6 @@ std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& sha
     check_shape(mesh, unit.back(), "shape " + std::to_string(i));
   }
   return unit;
-}
-
-void Interpolator::check_weights(const Eigen::VectorXd& w) const {
-  if (w.size() != num_shapes()) {
-    std::ostringstream s;
-    s << "got " << w.size() << " weights for " << num_shapes() << " shapes";
-    throw InvalidInput(s.str());
-  }
-  if (!w.allFinite()) throw InvalidInput("weights must be finite, got " + weights_text(w));
-  if (std::abs(w.sum() - 1.0) > 1e-9) {
-    std::ostringstream s;
-    s.precision(17);
-    s << "weights must sum to 1 (they sum to " << w.sum() << ")";
-    throw InvalidInput(s.str());
-  }
 }
 
 FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {
@@ -263,20 +254,6 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
   if (!finite) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
   self_check(st, w);
   return st;
-}
-
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
-  std::ostringstream s;
-  if (st.broken_triangles > 0)
-    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
-  if (!(st.flatness <= options_.max_flatness)) {
-    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
-      << " exceeds max_flatness " << options_.max_flatness;
-  }
-  if (s.tellp() == 0) return;
-  st.converged = false;
-  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
-  if (options_.strict) throw SolverError(st.warnings + " (strict)");
 }
 
 void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out) {

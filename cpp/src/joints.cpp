@@ -158,7 +158,7 @@ Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
   return p;
 }
 
-Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces)
+Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root)
     : pieces_(pieces) {
   const Positions& X = shapes[static_cast<size_t>(base)];
   const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
@@ -166,22 +166,24 @@ Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector
   std::vector<Locator> loc;
   for (const JointPiece& p : pieces_) loc.emplace_back(X, p);
   auto overlaps = overlap_graph(X, pieces_, loc);
-  const std::vector<double> moves = piece_moves(pieces_, base, shapes.size(), size);
+  std::vector<double> moves = piece_moves(pieces_, base, shapes.size(), size);
+  if (root >= 0) moves[static_cast<size_t>(root)] = -1;  // first in its group
   std::vector<int> order(n);
   std::iota(order.begin(), order.end(), 0);
   std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return moves[a] < moves[b]; });
   // A tree per group of overlapping pieces from the one that moves least, breadth first.
   std::vector<bool> seen(n, false);
-  for (int root : order) {
-    if (seen[root]) continue;
-    seen[root] = true;
+  for (int first : order) {
+    if (seen[first]) continue;
+    seen[first] = true;
     std::queue<int> todo;
-    todo.push(root);
+    todo.push(first);
     while (!todo.empty()) {
       const int u = todo.front();
       todo.pop();
       auto& next = overlaps[u];
-      std::stable_sort(next.begin(), next.end(), [&](const auto& a, const auto& b) { return moves[a.first] < moves[b.first]; });
+      std::stable_sort(next.begin(), next.end(),
+                       [&](const auto& a, const auto& b) { return moves[a.first] < moves[b.first]; });
       for (const auto& [v, ov] : next) {
         if (seen[v]) continue;
         seen[v] = true;

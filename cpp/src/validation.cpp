@@ -77,3 +77,38 @@ void check_orientation(const Positions& X, const Piece& p, int shape, int piece)
 }
 
 }  // namespace bdinterp::detail
+
+namespace bdinterp {
+using detail::weights_text;
+
+// The Interpolator's own checks of weights and of its frames (members: they read its options).
+void Interpolator::check_weights(const Eigen::VectorXd& w) const {
+  if (w.size() != num_shapes()) {
+    std::ostringstream s;
+    s << "got " << w.size() << " weights for " << num_shapes() << " shapes";
+    throw InvalidInput(s.str());
+  }
+  if (!w.allFinite()) throw InvalidInput("weights must be finite, got " + weights_text(w));
+  if (std::abs(w.sum() - 1.0) > 1e-9) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "weights must sum to 1 (they sum to " << w.sum() << ")";
+    throw InvalidInput(s.str());
+  }
+}
+
+void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
+  std::ostringstream s;
+  if (st.broken_triangles > 0)
+    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
+  if (!(st.flatness <= options_.max_flatness)) {
+    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
+      << " exceeds max_flatness " << options_.max_flatness;
+  }
+  if (s.tellp() == 0) return;
+  st.converged = false;
+  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
+  if (options_.strict) throw SolverError(st.warnings + " (strict)");
+}
+
+}  // namespace bdinterp

@@ -105,5 +105,62 @@ TEST_F(Pendulum, VertexAnchorKeepsThePapersLinearBlend) {
   EXPECT_LT((X.row(0) - 0.5 * (m.V.row(0) + target.row(0))).norm(), 1e-9);
 }
 
+// Torso, upper arm and forearm as loose parts: the arm is the pendulum's bar pinned to the torso at
+// the shoulder, the forearm another bar pinned to the arm's lower end at the elbow.
+struct Chain : Pendulum {
+  Eigen::Vector2d shoulder{-0.1, -0.3}, elbow{0.0, -3.75};
+  Positions V, T;
+  Faces F;
+  Eigen::Index torso = 0, arm = 0;  // the rows of the torso and of the arm; the forearm's follow
+
+  Chain() {
+    const testing::TestMesh body = testing::jittered_grid(8, 8, 2.0, 2.0, 3);
+    torso = body.V.rows(), arm = m.V.rows();
+    V.resize(torso + 2 * arm, 2);
+    V << body.V.rowwise() + Eigen::RowVector2d(-2.0, -1.0), m.V, m.V.rowwise() + Eigen::RowVector2d(0.0, -3.5);
+    F.resize(body.F.rows() + 2 * m.F.rows(), 3);
+    F << body.F, m.F.array() + static_cast<int>(torso), m.F.array() + static_cast<int>(torso + arm);
+    T = posed(1.0);
+  }
+  // The pose at t: the arm turned by 60 t about the shoulder, the forearm by 90 t more at the elbow.
+  Positions posed(double t) const {
+    Positions X = V;
+    X.middleRows(torso, arm) = turned(Positions(V.middleRows(torso, arm)), 60 * t * kDeg, shoulder);
+    X.bottomRows(arm) = turned(turned(Positions(V.bottomRows(arm)), 90 * t * kDeg, elbow), 60 * t * kDeg, shoulder);
+    return X;
+  }
+};
+
+TEST_F(Chain, JointsKeepThePinsOfEveryKey) {
+  Interpolator I({V, T}, F);
+  for (double t : {0.0, 0.2, 0.5, 0.8, 1.0}) EXPECT_LT((I.at(t) - posed(t)).cwiseAbs().maxCoeff(), 1e-9) << t;
+  EXPECT_EQ(I.last_stats().joints, 2);
+  // Off: each piece turns about its own fixed point; the forearm's is not the elbow, which opens.
+  InterpolatorOptions o;
+  o.joints = false;
+  Interpolator off({V, T}, F, {}, o);
+  const Positions X = off.at(0.5);
+  EXPECT_EQ(off.last_stats().joints, 0);
+  EXPECT_LT((X.topRows(torso + arm) - posed(0.5).topRows(torso + arm)).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT((X.bottomRows(arm) - posed(0.5).bottomRows(arm)).cwiseAbs().maxCoeff(), 0.1);
+}
+
+TEST_F(Chain, ThreePosesStayJoined) {
+  // Pose blends: the pins hold for any weights (each piece's angle is blended relative to its parent).
+  Interpolator I({V, T, posed(-0.5)}, F);
+  const Eigen::Vector3d w(0.3, 0.5, 0.2);
+  EXPECT_LT((I.blend(w) - posed(0.5 * 1.0 - 0.2 * 0.5)).cwiseAbs().maxCoeff(), 1e-9);
+}
+
+TEST_F(Chain, AVertexAnchorRootsItsGroup) {
+  // The anchor vertex is on the forearm: the forearm keeps the paper's linear path of that vertex
+  // and the arm and torso are placed from it.
+  const int v = static_cast<int>(torso + arm);
+  Interpolator I({V, T}, F, Anchor::at_vertex(v));
+  const Positions X = I.at(0.5);
+  EXPECT_LT((X.row(v) - 0.5 * (V.row(v) + T.row(v))).norm(), 1e-9);
+  EXPECT_EQ(I.last_stats().joints, 2);
+}
+
 }  // namespace
 }  // namespace bdinterp

@@ -134,7 +134,8 @@ def base_dependence(scale):
     computed from each base, over 12 weights."""
     V, F, _, pivot, _ = cm.pendulum()
     size = np.linalg.norm(np.ptp(V, axis=0))
-    T, U = cm.turn(V, 100 * scale, pivot), cm.turn(V, -60 * scale, [1.0, -2.0]) + np.multiply(scale, [0.5, 0.3])
+    T = cm.turn(V, 100 * scale, pivot)
+    U = cm.turn(V, -60 * scale, [1.0, -2.0]) + np.multiply(scale, [0.5, 0.3])
     weights = [[0.2, 0.5, 0.3], [1 / 3, 1 / 3, 1 / 3], [0.5, 0.5, 0], [0, 0.5, 0.5]]
     weights += np.random.default_rng(0).dirichlet([1, 1, 1], 8).tolist()
     X = [bdinterp.Interpolator([V, T, U], F, base=b).blend for b in range(3)]
@@ -150,3 +151,30 @@ def test_pose_blend_depends_on_the_base_to_third_order():
     full, half, quarter = base_dependence(1.0), base_dependence(0.5), base_dependence(0.25)
     assert full < 0.08 and quarter < 0.0015
     assert full / half > 6 and half / quarter > 6
+
+
+def test_a_piece_that_slides_over_its_parent_blends_its_offset():
+    # The head tilts by 40 degrees about the neck and the right eye also slides by (0.3, -0.2) over
+    # it: no pin (no common fixed point), so the eye keeps its overlap point's offset, blended in
+    # the head's frame: at t it is the eye moved by t (0.3, -0.2), tilted by 40 t about the neck.
+    ch, T = cm.head_with_eyes()
+    eye = ch.ranges[2]
+    slide = np.array([0.3, -0.2])
+    T = T.copy()
+    T[eye] = cm.turn(ch.V[eye] + slide, 40, [0.0, 0.0])
+    I = bdinterp.Interpolator([ch.V, T], ch.F)
+    for t, x in zip(TS, I.frames(TS)):
+        np.testing.assert_allclose(x[eye], cm.turn(ch.V[eye] + t * slide, 40 * t, [0.0, 0.0]), atol=1e-9)
+    assert I.stats.joints == 2
+
+
+def test_layered_character_keeps_its_joints_and_depths():
+    # The chain in space with every piece 0.02 in front of its parent (draw order): the pins hold
+    # in the plane and each piece keeps its depth.
+    import test_layers as tl
+    ch, T = cm.chain()
+    depths = [0.0, 0.02, 0.04, 0.06]
+    X = bdinterp.Interpolator([tl.lift(ch, ch.V, depths), tl.lift(ch, T, depths)], ch.F).frames(TS)
+    assert max(ch.pin_drift((X - tl.ORIGIN) @ tl.B.T)) < PIN
+    for rows, d in zip(ch.ranges, depths):
+        np.testing.assert_allclose((X[:, rows] - tl.ORIGIN) @ tl.NORMAL, d, atol=1e-12)

@@ -31,8 +31,9 @@ class Joints {
   // Finds the overlaps of the pieces in the base shape, a tree of joints per group of overlapping
   // pieces rooted at the piece that moves least, and each joint's point: the fixed point of the
   // child's motion relative to its parent when every input agrees on it and it lies in the overlap
-  // (a pin), else the overlap point nearest to the overlap's centre.
-  Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces);
+  // (a pin), else the overlap point nearest to the overlap's centre. root >= 0: that piece (the one
+  // holding a vertex anchor) is the root of its group whatever it moves, so it keeps its anchor.
+  Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root = -1);
 
   int size() const { return static_cast<int>(joints_.size()); }
   // Joint k as (parent piece, child piece), in the order apply() visits them (parents first).
