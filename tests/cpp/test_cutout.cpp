@@ -162,5 +162,23 @@ TEST_F(Chain, AVertexAnchorRootsItsGroup) {
   EXPECT_EQ(I.last_stats().joints, 2);
 }
 
+TEST(Cutout, EyesStayOnATiltedHead) {
+  // A 4 x 5 head and two eyes laid over it, all tilted by 40 degrees about the neck (the middle of
+  // the head's lower edge): every in-between is the drawing tilted by 40 t (before: the eyes slid
+  // by 1.2 % of the size half way).
+  const testing::TestMesh head = testing::jittered_grid(8, 10, 4.0, 5.0, 4);
+  const testing::TestMesh eye = testing::jittered_grid(3, 3, 0.6, 0.6, 5);
+  const Eigen::Index h = head.V.rows(), e = eye.V.rows();
+  Positions V(h + 2 * e, 2);
+  V << head.V.rowwise() + Eigen::RowVector2d(-2.0, 0.0), eye.V.rowwise() + Eigen::RowVector2d(-1.3, 3.0),
+      eye.V.rowwise() + Eigen::RowVector2d(0.7, 3.0);
+  Faces F(head.F.rows() + 2 * eye.F.rows(), 3);
+  F << head.F, eye.F.array() + static_cast<int>(h), eye.F.array() + static_cast<int>(h + e);
+  Interpolator I({V, turned(V, 40 * kDeg, Eigen::Vector2d::Zero())}, F);
+  for (double t = 0; t <= 1.0; t += 0.125)
+    EXPECT_LT((I.at(t) - turned(V, 40 * t * kDeg, Eigen::Vector2d::Zero())).cwiseAbs().maxCoeff(), 1e-9) << t;
+  EXPECT_EQ(I.last_stats().joints, 2);
+}
+
 }  // namespace
 }  // namespace bdinterp

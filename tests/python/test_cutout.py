@@ -29,9 +29,14 @@ def test_pendulum_keeps_its_pivot(pendulum):
     size = np.linalg.norm(np.ptp(V, axis=0))
     at = cm.Character([(V, F)], []).carried(X, 0, pivot)
     assert np.linalg.norm(at - pivot, axis=1).max() < PIN * size
-    # Rigidly turned by 150 t about the pivot: every vertex where that rotation puts it.
+    # Rigidly turned by 150 t about the pivot: every vertex where that rotation puts it (so the keys
+    # are exact and the steps even); the same frames from the target back to the source.
     for t, x in zip(TS, X):
         np.testing.assert_allclose(x, cm.turn(V, 150 * t, pivot), atol=1e-9 * size)
+    steps = cm.steps(X)
+    assert steps.max() <= 1.5 * np.median(steps)
+    back = bdinterp.Interpolator([T, V], F).frames(1 - TS)
+    np.testing.assert_allclose(back, X, rtol=0, atol=1e-9 * size)
 
 
 def test_rigid_turn_past_half_a_turn_takes_the_short_way():
@@ -77,8 +82,9 @@ def test_pieces_keep_the_shape_they_have_alone(case):
             np.testing.assert_allclose(edge_lengths(x[rows], F), edge_lengths(y, F), rtol=0, atol=1e-9)
 
 
-def test_still_torso_stays_still():
-    ch, T = cm.shoulder()
+@pytest.mark.parametrize("make", [cm.shoulder, cm.chain])
+def test_still_torso_stays_still(make):
+    ch, T = make()
     torso = ch.ranges[0]
     for x in bdinterp.Interpolator([ch.V, T], ch.F).frames(TS):
         assert abs(cm.rigid_angle(ch.V[torso], x[torso])) < 0.3
