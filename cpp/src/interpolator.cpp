@@ -205,23 +205,16 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
 
 Interpolator::~Interpolator() = default;
 
-std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& shapes, const Mesh& mesh) {
-  // The bounding box of every finite coordinate; the scale a power of two, so that scaling is exact
-  // and a shape scaled by 2^k gives exactly the scaled frames.
-  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo;
-  for (const Positions& X : shapes)
-    for (Eigen::Index v = 0; v < X.rows(); ++v)
-      if (X.row(v).allFinite()) lo = lo.cwiseMin(X.row(v)), hi = hi.cwiseMax(X.row(v));
-  const bool any = (lo.array() <= hi.array()).all();
-  offset_ = any ? Eigen::RowVector2d(0.5 * lo + 0.5 * hi) : Eigen::RowVector2d::Zero();
-  const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
-  scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
-  std::vector<Positions> unit;
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    unit.push_back((shapes[i].rowwise() - offset_) / scale_);
-    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+std::vector<Interpolator::JointInfo> Interpolator::joints() const {
+  std::vector<JointInfo> out;
+  auto lowest = [&](int piece) { return *std::min_element(plans_[piece]->piece.vertices.begin(),
+                                                          plans_[piece]->piece.vertices.end()); };
+  for (int k = 0; joints_ && k < joints_->size(); ++k) {
+    const auto [parent, child] = joints_->link(k);
+    out.push_back({lowest(parent), lowest(child), (joints_->point(k).transpose() * scale_ + offset_).transpose(),
+                   joints_->pinned(k)});
   }
-  return unit;
+  return out;
 }
 
 FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {

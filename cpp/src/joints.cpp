@@ -197,12 +197,13 @@ Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector
 void Joints::add_joint(const std::vector<Positions>& shapes, int base, double size, int parent, int child,
                        const std::vector<int>& overlap, const Locator& in_parent, const Locator& in_child) {
   const Positions& X = shapes[static_cast<size_t>(base)];
-  Joint j{parent, child, {}, {}, {}, {}, {}, {}};
+  Joint j{parent, child, {}, false, {}, {}, {}, {}, {}};
   int fp = -1, fc = -1;
   Eigen::Vector3d bp = Eigen::Vector3d::Zero(), bc = bp;
   // A pin: the child turns against its parent about one point, inside both pieces (the overlap).
   const bool pin = pin_point(pieces_[parent], pieces_[child], base, 1e-3 * size, j.point) &&
                    in_parent.locate(j.point, fp, bp) >= -kInside && in_child.locate(j.point, fc, bc) >= -kInside;
+  j.pin = pin;
   if (!pin) {
     // Else the overlap's vertex nearest to the overlap's centre (inside both pieces).
     Eigen::Vector2d centre = Eigen::Vector2d::Zero();

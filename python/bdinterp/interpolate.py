@@ -159,6 +159,19 @@ class Interpolator:
         vertices, docs/FOLDS.md; 0 when no input folds)."""
         return self._core.stats
 
+    def joints(self):
+        """The joints between pieces that overlap in the base shape (parents first): dicts with
+        parent and child (each piece by its lowest vertex), point ((2,) or, for 3D input, (3,) on
+        the child's plane in the base shape) and pin (True: the child turns about that point
+        against its parent in every input; False: a point of the overlap). Empty with joints=False."""
+        out = self._core.joints()
+        for j in out:
+            if self._layers is not None:
+                base = self._core.options.base
+                depth = self._layers.depth[base, self._layers.labels[j["child"]]]
+                j["point"] = self._plane.to_space(j["point"]) + depth * self._plane.normal
+        return out
+
     def folded_faces(self, shape):
         """(j,) indices of the faces of input `shape` that are folded (reversed) relative to the
         base shape, ascending; empty for the base. An input folded on more than half of a piece's

@@ -135,6 +135,14 @@ TEST_F(Chain, JointsKeepThePinsOfEveryKey) {
   Interpolator I({V, T}, F);
   for (double t : {0.0, 0.2, 0.5, 0.8, 1.0}) EXPECT_LT((I.at(t) - posed(t)).cwiseAbs().maxCoeff(), 1e-9) << t;
   EXPECT_EQ(I.last_stats().joints, 2);
+  const std::vector<Interpolator::JointInfo> found = I.joints();
+  ASSERT_EQ(found.size(), 2u);
+  EXPECT_EQ(found[0].parent_vertex, 0);
+  EXPECT_EQ(found[0].child_vertex, torso);
+  EXPECT_EQ(found[1].child_vertex, torso + arm);
+  EXPECT_TRUE(found[0].pin && found[1].pin);
+  EXPECT_LT((found[0].point - shoulder).norm(), 1e-9);
+  EXPECT_LT((found[1].point - elbow).norm(), 1e-9);
   // Off: each piece turns about its own fixed point; the forearm's is not the elbow, which opens.
   InterpolatorOptions o;
   o.joints = false;

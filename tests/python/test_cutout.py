@@ -104,6 +104,12 @@ def test_joints_are_reported_and_can_be_switched_off():
     I = bdinterp.Interpolator([ch.V, T], ch.F)
     X = I.frames(TS)
     assert I.stats.joints == 3 and I.stats.pieces == 4
+    # The tree from the still torso down the arm, each joint the pin it turns about.
+    found = I.joints()
+    assert [(j["parent"], j["child"]) for j in found] == [(ch.ranges[k][0], ch.ranges[k + 1][0]) for k in range(3)]
+    for j, (_, _, pin) in zip(found, ch.pins):
+        assert j["pin"]
+        np.testing.assert_allclose(j["point"], pin, atol=1e-9)
     off = bdinterp.Interpolator([ch.V, T], ch.F, joints=False)
     Y = off.frames(TS)
     assert off.stats.joints == 0
@@ -172,6 +178,13 @@ def test_a_piece_that_slides_over_its_parent_blends_its_offset():
     for t, x in zip(TS, I.frames(TS)):
         np.testing.assert_allclose(x[eye], cm.turn(ch.V[eye] + t * slide, 40 * t, [0.0, 0.0]), atol=1e-9)
     assert I.stats.joints == 2
+    # Neither eye turns against the head: both joints are points of the overlap, not pins.
+    assert [j["pin"] for j in I.joints()] == [False, False]
+    assert off_joints(ch, T) == []
+
+
+def off_joints(ch, T):
+    return bdinterp.Interpolator([ch.V, T], ch.F, joints=False).joints()
 
 
 def test_layered_character_keeps_its_joints_and_depths():
@@ -184,3 +197,8 @@ def test_layered_character_keeps_its_joints_and_depths():
     assert max(ch.pin_drift((X - tl.ORIGIN) @ tl.B.T)) < PIN
     for rows, d in zip(ch.ranges, depths):
         np.testing.assert_allclose((X[:, rows] - tl.ORIGIN) @ tl.NORMAL, d, atol=1e-12)
+    # Joint points in space, on the child's plane.
+    I = bdinterp.Interpolator([tl.lift(ch, ch.V, depths), tl.lift(ch, T, depths)], ch.F)
+    points = [j["point"] for j in I.joints()]
+    expect = [q @ tl.B + tl.ORIGIN + d * tl.NORMAL for (_, _, q), d in zip(ch.pins, depths[1:])]
+    np.testing.assert_allclose(points, expect, atol=1e-9)

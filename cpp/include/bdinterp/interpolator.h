@@ -110,6 +110,17 @@ class Interpolator {
   int threads() const;
   const InterpolatorOptions& options() const { return options_; }
 
+  // A joint between two overlapping pieces (InterpolatorOptions::joints, joints.h): the pieces by
+  // their lowest vertex, the joint point in the base shape (caller's coordinates), and whether it
+  // is a pin (the child turns about it against its parent) or an overlap point.
+  struct JointInfo {
+    int parent_vertex, child_vertex;
+    Eigen::Vector2d point;
+    bool pin;
+  };
+  // The joints found, parents before children; empty when joints are off or no pieces overlap.
+  std::vector<JointInfo> joints() const;
+
  private:
   struct PiecePlan;
   struct Workspace;

@@ -38,8 +38,9 @@ class Joints {
   int size() const { return static_cast<int>(joints_.size()); }
   // Joint k as (parent piece, child piece), in the order apply() visits them (parents first).
   std::array<int, 2> link(int k) const { return {joints_[k].parent, joints_[k].child}; }
-  // Joint k's point in the base shape (2).
+  // Joint k's point in the base shape (2), and whether it is a pin (else an overlap point).
   Eigen::Vector2d point(int k) const { return joints_[k].point; }
+  bool pinned(int k) const { return joints_[k].pin; }
 
   // Moves the children in `out` (#V by 2, every piece placed on its own) for weights w (#inputs,
   // sum 1). angle (#pieces): the anchor angle each piece was placed at (blend_frames); on return,
@@ -56,6 +57,7 @@ class Joints {
   struct Joint {
     int parent, child;
     Eigen::Vector2d point;
+    bool pin;
     Site in_parent, in_child;
     std::vector<double> relative;           // per input: child's angle minus parent's, in (-pi, pi]
     std::vector<double> parent_angle;       // per input: the parent's anchor angle
