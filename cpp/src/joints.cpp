@@ -97,9 +97,9 @@ RigidMotion motion(const JointPiece& p, int base, size_t i) {
   return {turn.angle, x.point - turn(b.point)};
 }
 
-// The common fixed point of the child's motions relative to its parent, if the inputs agree on one
-// (within tol) and some input turns the child relative to the parent; else false.
-bool pin_point(const JointPiece& parent, const JointPiece& child, int base, double tol, Eigen::Vector2d& q) {
+// A first guess at the pin: the fixed point of the child's motion relative to its parent (from
+// their anchor frames) in the input that turns it most; false if no input turns it.
+bool pin_guess(const JointPiece& parent, const JointPiece& child, int base, Eigen::Vector2d& q) {
   std::vector<RigidMotion> rel;
   for (size_t i = 0; i < parent.frames->size(); ++i) {
     const RigidMotion mp = motion(parent, base, i), mc = motion(child, base, i);
@@ -114,7 +114,53 @@ bool pin_point(const JointPiece& parent, const JointPiece& child, int base, doub
   if (std::abs(denom) < 1e-6) return false;  // no input turns the child against its parent
   const std::complex<double> z = std::complex<double>(most->shift.x(), most->shift.y()) / denom;
   q = Eigen::Vector2d(z.real(), z.imag());
-  return std::all_of(rel.begin(), rel.end(), [&](const RigidMotion& m) { return (m(q) - q).norm() <= tol; });
+  return true;
+}
+
+// The affine map of face f of a piece from the base shape to X: x -> J x + c.
+void face_map(const Locator& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
+              Eigen::Vector2d& c) {
+  const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
+  Eigen::Matrix2d from, to;
+  from << (B.row(b) - B.row(a)).transpose(), (B.row(d) - B.row(a)).transpose();
+  to << (X.row(b) - X.row(a)).transpose(), (X.row(d) - X.row(a)).transpose();
+  J = to * from.inverse();
+  c = X.row(a).transpose() - J * B.row(a).transpose();
+}
+
+// Refines q to the point that the parent's and the child's triangles carry to the same place in
+// every input (least squares over the inputs, per pair of triangles, until they stay the same);
+// returns the largest remaining gap over the inputs, infinite if q leaves either piece.
+double refine_pin(const std::vector<Positions>& shapes, int base, const Locator& parent, const Locator& child,
+                  Eigen::Vector2d& q) {
+  const Positions& B = shapes[static_cast<size_t>(base)];
+  int fp = -1, fc = -1, last_p = -2, last_c = -2;
+  Eigen::Vector3d bary;
+  for (int iteration = 0; iteration < 10 && (fp != last_p || fc != last_c); ++iteration) {
+    last_p = fp, last_c = fc;
+    if (parent.locate(q, fp, bary) < -kInside || child.locate(q, fc, bary) < -kInside) return HUGE_VAL;
+    Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (const Positions& X : shapes) {  // the gap (Jc - Jp) q + (cc - cp) in each input
+      Eigen::Matrix2d Jp, Jc;
+      Eigen::Vector2d cp, cc;
+      face_map(parent, fp, B, X, Jp, cp);
+      face_map(child, fc, B, X, Jc, cc);
+      M += (Jc - Jp).transpose() * (Jc - Jp);
+      r += (Jc - Jp).transpose() * (cc - cp);
+    }
+    if (std::abs(M.determinant()) < 1e-24) break;  // the pieces move alike: every point is common
+    q = -M.inverse() * r;
+  }
+  double gap = 0;
+  for (const Positions& X : shapes) {
+    Eigen::Matrix2d Jp, Jc;
+    Eigen::Vector2d cp, cc;
+    face_map(parent, fp, B, X, Jp, cp);
+    face_map(child, fc, B, X, Jc, cc);
+    gap = std::max(gap, ((Jc - Jp) * q + cc - cp).norm());
+  }
+  return gap;
 }
 
 // The overlap graph of the pieces in the base shape X: per piece, (neighbour, the vertices of
@@ -200,8 +246,10 @@ void Joints::add_joint(const std::vector<Positions>& shapes, int base, double si
   Joint j{parent, child, {}, false, {}, {}, {}, {}, {}};
   int fp = -1, fc = -1;
   Eigen::Vector3d bp = Eigen::Vector3d::Zero(), bc = bp;
-  // A pin: the child turns against its parent about one point, inside both pieces (the overlap).
-  const bool pin = pin_point(pieces_[parent], pieces_[child], base, 1e-3 * size, j.point) &&
+  // A pin: the child turns against its parent about one point inside both pieces (the overlap),
+  // which both carry to the same place in every input (to 0.1 % of the size).
+  const bool pin = pin_guess(pieces_[parent], pieces_[child], base, j.point) &&
+                   refine_pin(shapes, base, in_parent, in_child, j.point) <= 1e-3 * size &&
                    in_parent.locate(j.point, fp, bp) >= -kInside && in_child.locate(j.point, fc, bc) >= -kInside;
   j.pin = pin;
   if (!pin) {
