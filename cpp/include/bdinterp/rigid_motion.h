@@ -18,15 +18,17 @@ struct RigidMotion {
   double angle = 0;                                // radians, counter-clockwise, any branch
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();  // M(0)
 
+  // M(x) = R(angle) x + shift for a point x (2).
   Eigen::Vector2d operator()(const Eigen::Vector2d& x) const;
 };
 
 // The Lie-algebra element (angle, v) of M: M = exp(log). v is finite unless M turns by a non-zero
 // multiple of 2 pi while it moves (its fixed point is then at infinity): throws InvalidInput there.
 struct Twist {
-  double angle = 0;
-  Eigen::Vector2d v = Eigen::Vector2d::Zero();
+  double angle = 0;                             // radians, as the motion's (not wrapped)
+  Eigen::Vector2d v = Eigen::Vector2d::Zero();  // shift = V(angle) v
 };
+// log: the twist of m (throws InvalidInput as above); exp: the motion of a twist (exp(log m) = m).
 Twist log_motion(const RigidMotion& m);
 RigidMotion exp_twist(const Twist& xi);
 
