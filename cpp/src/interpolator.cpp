@@ -32,7 +32,7 @@ using detail::weights_text;
 void merge(FrameStats& into, const FrameStats& s) {
   merge(static_cast<FlattenReport&>(into), s);
   into.flatness = std::max(into.flatness, s.flatness);
-  into.pieces = s.pieces;  // these three are the same for every frame of an Interpolator
+  into.pieces = s.pieces;  // these are the same for every frame of an Interpolator
   into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices, into.joints = s.joints;
   into.converged = into.converged && s.converged;
   if (into.warnings.empty()) into.warnings = s.warnings;

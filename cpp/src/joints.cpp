@@ -21,11 +21,12 @@ constexpr double kInside = 1e-9;
 double wrap(double a) { return a - kTwoPi * std::round(a / kTwoPi); }  // into [-pi, pi]
 }  // namespace
 
+namespace detail {
 // Finds the triangle of one piece (in the base shape) that contains a point: a uniform grid of
 // about one face per cell over the piece's bounding box.
-class Locator {
+class TriangleGrid {
  public:
-  Locator(const Positions& X, const JointPiece& piece) : X_(X), piece_(piece) {
+  TriangleGrid(const Positions& X, const JointPiece& piece) : X_(X), piece_(piece) {
     const Faces& F = *piece.faces;
     lo_ = hi_ = X.row((*piece.vertices)[0]).transpose();
     for (int v : *piece.vertices) lo_ = lo_.cwiseMin(X.row(v).transpose()), hi_ = hi_.cwiseMax(X.row(v).transpose());
@@ -41,7 +42,7 @@ class Locator {
     }
   }
 
-  bool boxes_meet(const Locator& o) const {
+  bool boxes_meet(const TriangleGrid& o) const {
     return (lo_.array() <= o.hi_.array()).all() && (o.lo_.array() <= hi_.array()).all();
   }
   bool in_box(const Eigen::Vector2d& q) const {
@@ -77,11 +78,13 @@ class Locator {
   int n_;
   std::vector<std::vector<int>> cells_;
 };
+}  // namespace detail
 
 namespace {
+using detail::TriangleGrid;
 
 // The vertices of `b` strictly inside `a` (base shape).
-std::vector<int> inside(const Positions& X, const Locator& a, const JointPiece& b) {
+std::vector<int> inside(const Positions& X, const TriangleGrid& a, const JointPiece& b) {
   std::vector<int> out;
   int f;
   Eigen::Vector3d bary;
@@ -118,7 +121,7 @@ bool pin_guess(const JointPiece& parent, const JointPiece& child, int base, Eige
 }
 
 // The affine map of face f of a piece from the base shape to X: x -> J x + c.
-void face_map(const Locator& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
+void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
               Eigen::Vector2d& c) {
   const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
   Eigen::Matrix2d from, to;
@@ -131,8 +134,8 @@ void face_map(const Locator& piece, int f, const Positions& B, const Positions& 
 // Refines q to the point that the parent's and the child's triangles carry to the same place in
 // every input (least squares over the inputs, per pair of triangles, until they stay the same);
 // returns the largest remaining gap over the inputs, infinite if q leaves either piece.
-double refine_pin(const std::vector<Positions>& shapes, int base, const Locator& parent, const Locator& child,
-                  Eigen::Vector2d& q) {
+double refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
+                  const TriangleGrid& child, Eigen::Vector2d& q) {
   const Positions& B = shapes[static_cast<size_t>(base)];
   int fp = -1, fc = -1, last_p = -2, last_c = -2;
   Eigen::Vector3d bary;
@@ -167,7 +170,7 @@ double refine_pin(const std::vector<Positions>& shapes, int base, const Locator&
 // either piece strictly inside the other).
 std::vector<std::vector<std::pair<int, std::vector<int>>>> overlap_graph(const Positions& X,
                                                                          const std::vector<JointPiece>& pieces,
-                                                                         const std::vector<Locator>& loc) {
+                                                                         const std::vector<TriangleGrid>& loc) {
   const int n = static_cast<int>(pieces.size());
   std::vector<std::vector<std::pair<int, std::vector<int>>>> overlaps(n);
   for (int a = 0; a < n; ++a) {
@@ -209,7 +212,7 @@ Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector
   const Positions& X = shapes[static_cast<size_t>(base)];
   const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
   const int n = static_cast<int>(pieces_.size());
-  std::vector<Locator> loc;
+  std::vector<TriangleGrid> loc;
   for (const JointPiece& p : pieces_) loc.emplace_back(X, p);
   auto overlaps = overlap_graph(X, pieces_, loc);
   std::vector<double> moves = piece_moves(pieces_, base, shapes.size(), size);
@@ -241,7 +244,8 @@ Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector
 }
 
 void Joints::add_joint(const std::vector<Positions>& shapes, int base, double size, int parent, int child,
-                       const std::vector<int>& overlap, const Locator& in_parent, const Locator& in_child) {
+                       const std::vector<int>& overlap, const TriangleGrid& in_parent,
+                       const TriangleGrid& in_child) {
   const Positions& X = shapes[static_cast<size_t>(base)];
   Joint j{parent, child, {}, false, {}, {}, {}, {}, {}};
   int fp = -1, fc = -1;

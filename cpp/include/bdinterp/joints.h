@@ -23,7 +23,9 @@ struct JointPiece {
   const std::vector<Frame2>* frames;
 };
 
-class Locator;  // point location in one piece's triangles (joints.cpp)
+namespace detail {
+class TriangleGrid;  // point location in one piece's triangles (joints.cpp)
+}
 
 class Joints {
  public:
@@ -65,7 +67,8 @@ class Joints {
   };
   // Appends the joint of `child` under `parent`, whose base-shape overlap is `overlap` (vertices).
   void add_joint(const std::vector<Positions>& shapes, int base, double size, int parent, int child,
-                 const std::vector<int>& overlap, const Locator& in_parent, const Locator& in_child);
+                 const std::vector<int>& overlap, const detail::TriangleGrid& in_parent,
+                 const detail::TriangleGrid& in_child);
 
   std::vector<Joint> joints_;
   const std::vector<JointPiece> pieces_;
