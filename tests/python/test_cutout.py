@@ -221,3 +221,10 @@ def test_a_bending_arm_keeps_its_pin():
     assert I.joints()[0]["pin"]
     assert ch.pin_drift(I.frames(TS))[0] <= 1.5 * key_gap + 1e-12
     assert key_gap < 1e-4
+
+
+def test_the_joints_option_is_validated():
+    ch, T = cm.shoulder()
+    with pytest.raises(ValueError, match="joints must be True or False"):
+        bdinterp.Interpolator([ch.V, T], ch.F, joints="yes")
+    assert bdinterp.Interpolator([ch.V, T], ch.F).layers is None  # 2D input has no layers
