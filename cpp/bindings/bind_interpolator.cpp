@@ -33,6 +33,9 @@ void bind_options(py::module_& m) {
       .def_readwrite("folds", &InterpolatorOptions::folds,
                      "folded inputs: cut out and fill their fold region (docs/FOLDS.md); False: the "
                      "paper's method on the whole mesh")
+      .def_readwrite("joints", &InterpolatorOptions::joints,
+                     "pieces that overlap in the base shape stay joined where they overlap "
+                     "(docs/JOINTS.md); False: every piece placed on its own")
       .def_property_readonly_static(
           "MAX_THREADS", [](py::object) { return InterpolatorOptions::kMaxThreads; });
   flatten_field(cls, "tolerance", &FlattenOptions::tolerance,
@@ -85,6 +88,17 @@ void bind_interpolator(py::module_& m) {
             return I.last_stats();
           },
           "FrameStats of the last at()/blend(), or of all frames of frames_into().")
+      .def(
+          "joints",
+          [](const Interpolator& I) {
+            py::list out;
+            for (const auto& j : I.joints())
+              out.append(py::dict(py::arg("parent") = j.parent_vertex, py::arg("child") = j.child_vertex,
+                                  py::arg("point") = j.point, py::arg("pin") = j.pin));
+            return out;
+          },
+          "The joints between overlapping pieces: dicts parent, child (each piece's lowest vertex), "
+          "point (the joint point in the base shape), pin (a pin, else an overlap point).")
       .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
            "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),

@@ -49,6 +49,8 @@ void bind_stats(py::module_& m) {
         "faces of the fold region (folded inputs, docs/FOLDS.md); 0 when no input folds");
   field(cls, *names, "fold_free_vertices", &FrameStats::fold_free_vertices,
         "vertices filled in by the fold region's Poisson solve");
+  field(cls, *names, "joints", &FrameStats::joints,
+        "joints between overlapping pieces (docs/JOINTS.md); 0 when they are off or none overlap");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {

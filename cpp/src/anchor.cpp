@@ -10,6 +10,7 @@
 
 #include "bdinterp/geometry.h"
 #include "bdinterp/parallel.h"
+#include "bdinterp/rigid_motion.h"
 #include "bdinterp/triangle.h"
 
 namespace bdinterp {
@@ -147,11 +148,16 @@ void AnchorFrame::place(Positions& X, const Frame2& target) const {
   }
 }
 
-Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor) {
+Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor,
+                    int geodesic_base) {
   Frame2 out{Eigen::Vector2d::Zero(), 0.0};
-  for (size_t i = 0; i < inputs.size(); ++i) {
-    out.point += w[static_cast<Eigen::Index>(i)] * inputs[i].point;
-    out.angle += w[static_cast<Eigen::Index>(i)] * inputs[i].angle;
+  if (geodesic_base >= 0) {
+    out = geodesic_blend(inputs, w, geodesic_base);
+  } else {
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      out.point += w[static_cast<Eigen::Index>(i)] * inputs[i].point;
+      out.angle += w[static_cast<Eigen::Index>(i)] * inputs[i].angle;
+    }
   }
   if (anchor.mode != Anchor::Mode::Path) return out;
   // Two shapes: t = w[1]. Add the path's deviation from its own chord.

@@ -11,11 +11,13 @@
 #include "bdinterp/folds.h"
 #include "bdinterp/geometry.h"
 #include "bdinterp/holes.h"
+#include "bdinterp/joints.h"
 #include "bdinterp/layout.h"
 #include "bdinterp/metric_blend.h"
 #include "bdinterp/orientation.h"
 #include "bdinterp/still.h"
 #include "bdinterp/parallel.h"
+#include "bdinterp/rigid_motion.h"
 #include "detail/validation.h"
 #include "detail/warm_start.h"
 
@@ -30,8 +32,8 @@ using detail::weights_text;
 void merge(FrameStats& into, const FrameStats& s) {
   merge(static_cast<FlattenReport&>(into), s);
   into.flatness = std::max(into.flatness, s.flatness);
-  into.pieces = s.pieces;  // these three are the same for every frame of an Interpolator
-  into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices;
+  into.pieces = s.pieces;  // these are the same for every frame of an Interpolator
+  into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices, into.joints = s.joints;
   into.converged = into.converged && s.converged;
   if (into.warnings.empty()) into.warnings = s.warnings;
   into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
@@ -58,6 +60,7 @@ struct Interpolator::PiecePlan {
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
   std::unique_ptr<const HoleSolver> holes;  // pieces with holes: flattening and layout (holes.h)
+  int geodesic_base = -1;      // blend_frames: the anchor on the motions' geodesic from this input
 
   // still: anchor on the parts that do not move between the inputs (still.h): the default anchor,
   // also the point an anchor path without a vertex moves.
@@ -74,6 +77,9 @@ struct Interpolator::PiecePlan {
       l2.push_back(squared_edge_lengths(piece.mesh, X));
       frames.push_back(anchor.measure_input(X));
     }
+    // The default anchor (and a path's point) moves on the geodesic of the rigid motions; the
+    // paper's vertex anchor keeps its linear blend; a whole turn with a shift has none (rigid_motion.h).
+    if (still && anchor_vertex < 0 && has_geodesic(frames, base)) geodesic_base = base;
   }
 };
 
@@ -99,7 +105,9 @@ struct Interpolator::Workspace {
     const FlattenReport rep = holes ? holes->solve(l2w, u, X, opt, flatness, closure) : solve_disk(w, opt, flatness);
     if (holes) history.add(w, u);
     if (p.mirrored) X.col(0) *= -1.0;
-    p.anchor.place(X, blend_frames(p.frames, w, anchor_mode));
+    const Frame2 frame = blend_frames(p.frames, w, anchor_mode, p.geodesic_base);
+    angle = frame.angle;
+    p.anchor.place(X, frame);
     for (size_t i = 0; i < p.piece.vertices.size(); ++i) out.row(p.piece.vertices[i]) = X.row(i);
     return rep;
   }
@@ -141,6 +149,7 @@ struct Interpolator::Workspace {
   detail::History history;
   Eigen::VectorXd u, l2w;
   Positions X;
+  double angle = 0;  // the anchor angle of the last frame (the joints turn children from it)
 };
 
 Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F, const Anchor& anchor,
@@ -181,51 +190,46 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     plans_.push_back(std::make_unique<const PiecePlan>(std::move(p), local, options.base, av, still));
     workers_[0].push_back(std::make_unique<Workspace>(*plans_.back()));
   }
+  if (options.joints && plans_.size() > 1) {
+    std::vector<JointPiece> parts;
+    int anchored = -1;  // the piece of a vertex anchor roots its group, so the anchor holds
+    for (const auto& p : plans_) {
+      const auto& vs = p->piece.vertices;
+      if (anchor.vertex >= 0 && std::find(vs.begin(), vs.end(), anchor.vertex) != vs.end())
+        anchored = static_cast<int>(parts.size());
+      parts.push_back({&vs, &p->piece.mesh.faces(), &p->frames});
+    }
+    joints_ = std::make_unique<const Joints>(unit, options.base, parts, anchored);
+  }
 }
 
 Interpolator::~Interpolator() = default;
 
-std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& shapes, const Mesh& mesh) {
-  // The bounding box of every finite coordinate; the scale a power of two, so that scaling is exact
-  // and a shape scaled by 2^k gives exactly the scaled frames.
-  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo;
-  for (const Positions& X : shapes)
-    for (Eigen::Index v = 0; v < X.rows(); ++v)
-      if (X.row(v).allFinite()) lo = lo.cwiseMin(X.row(v)), hi = hi.cwiseMax(X.row(v));
-  const bool any = (lo.array() <= hi.array()).all();
-  offset_ = any ? Eigen::RowVector2d(0.5 * lo + 0.5 * hi) : Eigen::RowVector2d::Zero();
-  const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
-  scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
-  std::vector<Positions> unit;
-  for (size_t i = 0; i < shapes.size(); ++i) {
-    unit.push_back((shapes[i].rowwise() - offset_) / scale_);
-    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+std::vector<Interpolator::JointInfo> Interpolator::joints() const {
+  std::vector<JointInfo> out;
+  auto lowest = [&](int piece) { return *std::min_element(plans_[piece]->piece.vertices.begin(),
+                                                          plans_[piece]->piece.vertices.end()); };
+  for (int k = 0; joints_ && k < joints_->size(); ++k) {
+    const auto [parent, child] = joints_->link(k);
+    out.push_back({lowest(parent), lowest(child), (joints_->point(k).transpose() * scale_ + offset_).transpose(),
+                   joints_->pinned(k)});
   }
-  return unit;
-}
-
-void Interpolator::check_weights(const Eigen::VectorXd& w) const {
-  if (w.size() != num_shapes()) {
-    std::ostringstream s;
-    s << "got " << w.size() << " weights for " << num_shapes() << " shapes";
-    throw InvalidInput(s.str());
-  }
-  if (!w.allFinite()) throw InvalidInput("weights must be finite, got " + weights_text(w));
-  if (std::abs(w.sum() - 1.0) > 1e-9) {
-    std::ostringstream s;
-    s.precision(17);
-    s << "weights must sum to 1 (they sum to " << w.sum() << ")";
-    throw InvalidInput(s.str());
-  }
+  return out;
 }
 
 FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {
   FrameStats st;
   st.pieces = static_cast<int>(plans_.size());
+  std::vector<double> angles(plans_.size());
   for (size_t p = 0; p < plans_.size(); ++p) {
     double flat = 0;
     merge(st, workers_[worker][p]->solve(*plans_[p], w, options_.flatten, anchor_, out, &flat, st.hole_closure));
     st.flatness = std::max(st.flatness, flat);
+    angles[p] = workers_[worker][p]->angle;
+  }
+  if (joints_) {
+    joints_->apply(w, angles, out);
+    st.joints = joints_->size();
   }
   for (size_t k = 0; k < isolated_.size(); ++k) {
     out.row(isolated_[k]).setZero();
@@ -243,20 +247,6 @@ FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positi
   if (!finite) throw SolverError("the frame at weights " + weights_text(w) + " is not finite");
   self_check(st, w);
   return st;
-}
-
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
-  std::ostringstream s;
-  if (st.broken_triangles > 0)
-    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
-  if (!(st.flatness <= options_.max_flatness)) {
-    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
-      << " exceeds max_flatness " << options_.max_flatness;
-  }
-  if (s.tellp() == 0) return;
-  st.converged = false;
-  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
-  if (options_.strict) throw SolverError(st.warnings + " (strict)");
 }
 
 void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out) {

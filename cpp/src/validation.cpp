@@ -1,9 +1,11 @@
 #include "detail/validation.h"
 
+#include <cfloat>
 #include <cmath>
 #include <sstream>
 
 #include "bdinterp/geometry.h"
+#include "bdinterp/metric_blend.h"
 
 namespace bdinterp::detail {
 namespace {
@@ -77,3 +79,58 @@ void check_orientation(const Positions& X, const Piece& p, int shape, int piece)
 }
 
 }  // namespace bdinterp::detail
+
+namespace bdinterp {
+using detail::weights_text;
+
+// The Interpolator's own checks of its shapes, weights and frames (members: they set or read its
+// scale and options).
+std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& shapes, const Mesh& mesh) {
+  // The bounding box of every finite coordinate; the scale a power of two, so that scaling is exact
+  // and a shape scaled by 2^k gives exactly the scaled frames.
+  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo;
+  for (const Positions& X : shapes)
+    for (Eigen::Index v = 0; v < X.rows(); ++v)
+      if (X.row(v).allFinite()) lo = lo.cwiseMin(X.row(v)), hi = hi.cwiseMax(X.row(v));
+  const bool any = (lo.array() <= hi.array()).all();
+  offset_ = any ? Eigen::RowVector2d(0.5 * lo + 0.5 * hi) : Eigen::RowVector2d::Zero();
+  const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
+  scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
+  std::vector<Positions> unit;
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    unit.push_back((shapes[i].rowwise() - offset_) / scale_);
+    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+  }
+  return unit;
+}
+
+void Interpolator::check_weights(const Eigen::VectorXd& w) const {
+  if (w.size() != num_shapes()) {
+    std::ostringstream s;
+    s << "got " << w.size() << " weights for " << num_shapes() << " shapes";
+    throw InvalidInput(s.str());
+  }
+  if (!w.allFinite()) throw InvalidInput("weights must be finite, got " + weights_text(w));
+  if (std::abs(w.sum() - 1.0) > 1e-9) {
+    std::ostringstream s;
+    s.precision(17);
+    s << "weights must sum to 1 (they sum to " << w.sum() << ")";
+    throw InvalidInput(s.str());
+  }
+}
+
+void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
+  std::ostringstream s;
+  if (st.broken_triangles > 0)
+    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
+  if (!(st.flatness <= options_.max_flatness)) {
+    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
+      << " exceeds max_flatness " << options_.max_flatness;
+  }
+  if (s.tellp() == 0) return;
+  st.converged = false;
+  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
+  if (options_.strict) throw SolverError(st.warnings + " (strict)");
+}
+
+}  // namespace bdinterp

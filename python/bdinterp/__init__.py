@@ -8,7 +8,8 @@ Public API (numpy in, numpy out):
         .at(t), .blend(weights), .frames(ts), .stats (FrameStats)
     conformal_distortion(source, result, faces), area_ratio(source, result, faces),
     flipped_faces(source, result, faces)
-    Plane (the plane of planar 3D input), AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
+    Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
+    AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
     threading_info() (usable cores, the busy verdict, the BLAS/OpenMP runtimes CHOLMOD calls)
     SolverError (a RuntimeError); invalid input raises ValueError.
 """
@@ -16,10 +17,11 @@ from ._core import FrameStats, SolverError, threading_info
 from .constants import METHOD_LABELS, METHODS, PLANAR_TOLERANCE
 from .distortion import area_ratio, conformal_distortion, flipped_faces
 from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
+from .layers import Layers
 from .plane import Plane
 
 __version__ = "0.1.0"
 
-__all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane",
+__all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "METHODS",
            "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "__version__"]

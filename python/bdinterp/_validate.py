@@ -8,6 +8,7 @@ import numbers
 import numpy as np
 
 from .constants import INT_MAX, PLANAR_TOLERANCE
+from .layers import Layers
 from .plane import Plane
 
 
@@ -117,11 +118,13 @@ def times(ts, name="ts"):
     return a
 
 
-def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE):
-    """Validates k shapes of equal size; returns (list of (n, 2) arrays, Plane or None).
+def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE, mesh_faces=None):
+    """Validates k shapes of equal size; returns (list of (n, 2) arrays, Plane, Layers or None).
 
-    2D shapes pass through unchanged (no copy when already C-contiguous float64). 3D shapes must all
-    lie in the plane of shapes[base]; their plane coordinates are returned with that plane.
+    2D shapes pass through unchanged (no copy when already C-contiguous float64; Plane and Layers
+    None). 3D shapes without mesh_faces must all lie in the plane of shapes[base] (Layers None); with
+    mesh_faces (m, 3) (validated here), each loose part may lie in its own plane parallel to the others (Layers.fit).
+    Their plane coordinates are returned with the common plane.
     """
     if isinstance(shapes, np.ndarray) and shapes.ndim == 3:
         shapes = list(shapes)
@@ -136,6 +139,9 @@ def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE):
         if s.shape != (n, d):
             raise ValueError(f"shape {i} has shape {s.shape}, shape 0 has {(n, d)}")
     if d == 2:
-        return [np.ascontiguousarray(s) for s in shapes], None
-    plane = Plane.fit(shapes[base])
-    return [plane.to_plane(s, f"shape {i}", tolerance) for i, s in enumerate(shapes)], plane
+        return [np.ascontiguousarray(s) for s in shapes], None, None
+    if mesh_faces is None:
+        plane = Plane.fit(shapes[base])
+        return [plane.to_plane(s, f"shape {i}", tolerance) for i, s in enumerate(shapes)], plane, None
+    layers = Layers.fit(shapes, faces(mesh_faces, n), base, tolerance)
+    return layers.to_plane(shapes), layers.plane, layers

@@ -59,16 +59,16 @@ def _core_anchor(anchor, num_vertices, plane):
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
 
 
-def _options(base, tol, max_iterations, threads, strict, folds=True):
+def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True):
     o = _core.InterpolatorOptions()
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
     o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
-    for name, value in (("strict", strict), ("folds", folds)):
+    for name, value in (("strict", strict), ("folds", folds), ("joints", joints)):
         if not isinstance(value, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False, got {value!r}")
-    o.strict, o.folds = bool(strict), bool(folds)
+    o.strict, o.folds, o.joints = bool(strict), bool(folds), bool(joints)
     return o
 
 
@@ -76,8 +76,9 @@ class Interpolator:
     """Bounded-distortion in-betweens of k shapes with one connectivity, precomputed once.
 
     shapes: sequence of k (n, 2) or (n, 3) arrays (3D: planar, in the plane of shapes[base]); faces:
-    (m, 3) ints. anchor: None/"auto" (blend the area-weighted centroid and the mean rotation), a
-    vertex index (the paper's mode), or an AnchorPath (two shapes). base: the shape the maps start
+    (m, 3) ints. anchor: None/"auto" (per piece, what does not move, else the centroid, moved on
+    the geodesic of the rigid motions, docs/JOINTS.md), a vertex index (the paper's mode), or an
+    AnchorPath (two shapes). base: the shape the maps start
     from. tol: convergence tolerance on max |2 pi - angle sum| (radians, > 0); max_iterations: Newton
     steps before SolverError (>= 1); threads: cores to use (frames() splits a sequence over them, a
     single frame its loops; 0 = all cores, 1 = sequential). strict: a frame that fails the
@@ -85,19 +86,23 @@ class Interpolator:
     converged/warnings) raises SolverError instead of being returned with stats.converged False.
     folds: inputs with folded faces (folded_faces) are solved without their fold region, which is
     filled in so that the folded keys are reached (docs/FOLDS.md); False: the paper's method on the
-    whole mesh (folded keys are then missed).
+    whole mesh (folded keys are then missed). joints: pieces (loose parts) that overlap in the base
+    shape stay joined where they overlap, each child placed by its parent's in-between and turned by
+    its blended rotation relative to it (docs/JOINTS.md; stats.joints counts them); False: every
+    piece is placed on its own.
 
     Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
     taken with the GIL released); each returns what it would have returned alone.
     """
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
-                 max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True):
-        shapes2d, self._plane = _validate.planar_shapes(shapes, base)
+                 max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True,
+                 joints=True):
+        shapes2d, self._plane, self._layers = _validate.planar_shapes(shapes, base, mesh_faces=faces)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
-        options = _options(base, tol, max_iterations, threads, strict, folds)
+        options = _options(base, tol, max_iterations, threads, strict, folds, joints)
         self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._n, self._plane),
                                         options)
 
@@ -106,19 +111,25 @@ class Interpolator:
         """The Plane of 3D input (results are mapped back into it), or None for 2D input."""
         return self._plane
 
-    def _out(self, uv):
-        return uv if self._plane is None else self._plane.to_space(uv)
+    @property
+    def layers(self):
+        """The Layers of 3D input (each loose part's depth along the plane's normal), or None."""
+        return self._layers
+
+    def _out(self, uv, weights):
+        return uv if self._layers is None else self._layers.to_space(uv, weights)
 
     def at(self, t):
         """The in-between at t (two shapes; finite, may lie outside [0, 1]); (n, d) like the inputs."""
-        return self._out(self._core.at(_validate.real(t, "t")))
+        t = _validate.real(t, "t")
+        return self._out(self._core.at(t), [1 - t, t])
 
     def blend(self, weights):
         """The bounded-distortion blend for weights (k,) summing to 1; (n, d)."""
         w = _validate.times(weights, "weights")
         if w.size != self._k:
             raise ValueError(f"weights must have one entry per shape ({self._k}), got {w.size}")
-        return self._out(self._core.blend(w))
+        return self._out(self._core.blend(w), w)
 
     def frames(self, ts):
         """In-betweens for a sequence of t (two shapes), each warm-started from the previous:
@@ -126,7 +137,11 @@ class Interpolator:
         ts = _validate.times(ts)
         out = np.empty((ts.size * self._n, 2))
         self._core.frames_into(ts.tolist(), out)
-        return self._out(out.reshape(ts.size, self._n, 2))
+        uv = out.reshape(ts.size, self._n, 2)
+        if self._layers is None:
+            return uv
+        return np.stack([self._out(x, [1 - t, t]) for x, t in zip(uv, ts)]) if ts.size else \
+            np.empty((0, self._n, 3))
 
     @property
     def threads(self):
@@ -143,6 +158,19 @@ class Interpolator:
         fold_faces and fold_free_vertices (the size of the fold region and of its filled-in
         vertices, docs/FOLDS.md; 0 when no input folds)."""
         return self._core.stats
+
+    def joints(self):
+        """The joints between pieces that overlap in the base shape (parents first): dicts with
+        parent and child (each piece by its lowest vertex), point ((2,) or, for 3D input, (3,) on
+        the child's plane in the base shape) and pin (True: the child turns about that point
+        against its parent in every input; False: a point of the overlap). Empty with joints=False."""
+        out = self._core.joints()
+        for j in out:
+            if self._layers is not None:
+                base = self._core.options.base
+                depth = self._layers.depth[base, self._layers.labels[j["child"]]]
+                j["point"] = self._plane.to_space(j["point"]) + depth * self._plane.normal
+        return out
 
     def folded_faces(self, shape):
         """(j,) indices of the faces of input `shape` that are folded (reversed) relative to the
@@ -171,7 +199,7 @@ def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
     if anchor not in (None, "auto") or options:
         given = ["anchor"] * (anchor not in (None, "auto")) + sorted(options)
         raise ValueError(f"{', '.join(given)} not supported with method={method!r}")
-    (s, g), plane = _validate.planar_shapes([source, target])
+    (s, g), _, layers = _validate.planar_shapes([source, target], mesh_faces=faces)
     f = _validate.faces(faces, s.shape[0])
     ts = _validate.times(ts)
     if method == "linear":
@@ -179,8 +207,10 @@ def frames(source, target, faces, ts, *, method="bdi", anchor=None, **options):
     else:
         arap = _core.ArapInterpolator(s, g, f)
         uv = [arap.at(t) for t in ts.tolist()]
-    uv = np.stack(uv) if uv else np.empty((0,) + s.shape)
-    return uv if plane is None else plane.to_space(uv)
+    if layers is not None:
+        return np.stack([layers.to_space(x, [1 - t, t]) for x, t in zip(uv, ts)]) if uv else \
+            np.empty((0, s.shape[0], 3))
+    return np.stack(uv) if uv else np.empty((0,) + s.shape)
 
 
 def interpolate(source, target, faces, t, *, anchor=None, method="bdi"):

@@ -48,7 +48,7 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
     st = interp.stats
     assert isinstance(st, bdinterp.FrameStats)
     ints = ("iterations", "broken_triangles", "max_broken_triangles", "line_search_steps", "pieces",
-            "factorizations", "chord_steps", "fold_faces", "fold_free_vertices")
+            "factorizations", "chord_steps", "fold_faces", "fold_free_vertices", "joints")
     floats = ("residual", "flatness", "seconds")
     assert set(st.keys()) == set(ints + floats + ("converged", "warnings", "hole_closure"))
     assert st.converged is True and st.warnings == ""

@@ -17,8 +17,9 @@ namespace bdinterp {
 
 // A user-given anchor trajectory for two-shape interpolation: at t[k] the anchor point is at
 // position.row(k) and turned by angle[k] radians (piecewise linear in between, clamped outside).
-// The path is corrected by the linear function of t that makes it pass through the inputs' own
-// anchors at t = 0 and t = 1, so the source and target stay exact whatever the path's ends.
+// What counts is the path's deviation from its chord between t = 0 and t = 1: it is added to the
+// anchor's own motion (the geodesic for the centroid, the chord for a vertex, see blend_frames), so
+// the source and target stay exact whatever the path's ends.
 struct AnchorPath {
   std::vector<double> t;  // strictly increasing
   Positions position;     // t.size() by 2
@@ -79,7 +80,12 @@ class AnchorFrame {
   bool region_ = false;                   // weight_ set by set_region (a weighted point, too)
 };
 
-// The anchor of an in-between: the weighted blend of the inputs' anchors (path-corrected in Path mode).
-Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor);
+// The anchor of an in-between for weights w (#inputs, sum 1). geodesic_base >= 0 (the default
+// anchor, and a path without a vertex): on the geodesic of the rigid motions relative to that input
+// (geodesic_blend in rigid_motion.h), so a piece that turns about a pin keeps the pin. -1 (a vertex
+// anchor, the paper's): the weighted blend of the inputs' points and angles. In Path mode the path's
+// deviation from its own chord between t = 0 and 1 is added (so the inputs stay exact).
+Frame2 blend_frames(const std::vector<Frame2>& inputs, const Eigen::VectorXd& w, const Anchor& anchor,
+                    int geodesic_base = -1);
 
 }  // namespace bdinterp

@@ -13,6 +13,7 @@
 namespace bdinterp {
 
 class FoldFill;
+class Joints;
 
 struct InterpolatorOptions {
   FlattenOptions flatten;
@@ -31,6 +32,9 @@ struct InterpolatorOptions {
   // which is filled in (folds.h, docs/FOLDS.md), so the folded keys are reached. false: the paper's
   // method on the whole mesh (the keys' folded metric is flattened too, so folded keys are missed).
   bool folds = true;
+  // Cut-out characters (joints.h, docs/JOINTS.md): pieces that overlap in the base shape stay joined
+  // where they overlap (each child placed by its parent). false: every piece placed on its own.
+  bool joints = true;
   static constexpr int kMaxThreads = 1024;
 };
 
@@ -48,6 +52,7 @@ struct FrameStats : FlattenReport {
   // Folded inputs (folds.h): the faces of the fold region and its free vertices (0 when no input folds).
   int fold_faces = 0;
   int fold_free_vertices = 0;
+  int joints = 0;  // joints between overlapping pieces (joints.h); 0 when InterpolatorOptions::joints is off
 };
 
 // No hidden state: a frame depends on its weights, not on the calls before it: with the default
@@ -105,6 +110,17 @@ class Interpolator {
   int threads() const;
   const InterpolatorOptions& options() const { return options_; }
 
+  // A joint between two overlapping pieces (InterpolatorOptions::joints, joints.h): the pieces by
+  // their lowest vertex, the joint point in the base shape (caller's coordinates), and whether it
+  // is a pin (the child turns about it against its parent) or an overlap point.
+  struct JointInfo {
+    int parent_vertex, child_vertex;
+    Eigen::Vector2d point;
+    bool pin;
+  };
+  // The joints found, parents before children; empty when joints are off or no pieces overlap.
+  std::vector<JointInfo> joints() const;
+
  private:
   struct PiecePlan;
   struct Workspace;
@@ -128,6 +144,7 @@ class Interpolator {
   std::vector<int> isolated_;
   std::vector<std::vector<int>> folded_;  // per shape: folded_faces
   std::unique_ptr<const FoldFill> folds_;  // set when an input folds: the fill of its fold region
+  std::unique_ptr<const Joints> joints_;   // set when options.joints: the joints between pieces
   std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
   FrameStats stats_;
   mutable std::mutex mutex_;

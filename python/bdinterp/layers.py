@@ -1,0 +1,88 @@
+"""Layered pieces (issue #20, point 3): the loose parts of a 3D mesh in parallel planes, each at its own
+depth along the common normal (a cut-out character's draw order), solved in one plane and put back
+at their depths."""
+from dataclasses import dataclass
+
+import numpy as np
+
+from .constants import PLANAR_TOLERANCE
+from .plane import Plane, total_signed_area
+
+
+def piece_labels(num_vertices, faces):
+    """(n,) the loose part (connected by faces) of every vertex, numbered 0, 1, ... in order of each
+    part's lowest vertex; a vertex in no face is a part of its own."""
+    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
+    labels = np.arange(num_vertices)
+    while True:  # every vertex takes the least label of its faces, then its label's (pointer jumping)
+        new = labels.copy()
+        np.minimum.at(new, faces, labels[faces].min(axis=1)[:, None])
+        new = new[new]
+        if np.array_equal(new, labels):
+            break
+        labels = new
+    _, labels = np.unique(labels, return_inverse=True)  # a part's label is its lowest vertex
+    return labels
+
+
+@dataclass(frozen=True)
+class Layers:
+    """A plane shared by parallel pieces and each piece's depth in every input shape.
+
+    plane: the common Plane (its normal is the pieces' common normal); labels (n,): the piece of
+    each vertex; depth (k, p): the signed offset of piece j of shape i along the normal (the median
+    of its vertices' offsets from plane.origin).
+    """
+    plane: Plane
+    labels: np.ndarray
+    depth: np.ndarray
+
+    @classmethod
+    def fit(cls, shapes, faces, base=0, tolerance=PLANAR_TOLERANCE):
+        """The layers of k shapes (n, 3) with faces (m, 3): the least-squares normal of planes
+        parallel through each piece of shapes[base] (pieces centred on their own means, one SVD),
+        oriented so that the faces wind counter-clockwise. ValueError naming the shape, the piece
+        (by its lowest vertex) and the worst vertex if a vertex is farther than tolerance x the
+        shape's largest extent from its piece's plane (a piece not planar or not parallel)."""
+        shapes = [np.asarray(s, dtype=np.float64) for s in shapes]
+        labels = piece_labels(len(shapes[base]), faces)
+        B = shapes[base]
+        means = np.zeros((labels.max() + 1, 3))
+        np.add.at(means, labels, B)
+        means /= np.bincount(labels)[:, None]
+        _, _, vt = np.linalg.svd(B - means[labels], full_matrices=False)
+        plane = Plane(B.mean(axis=0), vt[:2].copy(), np.cross(vt[0], vt[1]))
+        if total_signed_area(plane.to_plane(B, "points", np.inf), faces) < 0:
+            plane = plane.flipped()
+        depth = np.stack([cls._depths(plane, labels, X, f"shape {i}", tolerance)
+                          for i, X in enumerate(shapes)])
+        return cls(plane, labels, depth)
+
+    @staticmethod
+    def _depths(plane, labels, X, name, tolerance):
+        """(p,) the depth of every piece of X; ValueError as in fit() for a vertex off its plane."""
+        off = (X - plane.origin) @ plane.normal
+        order = np.argsort(labels, kind="stable")
+        cuts = np.flatnonzero(np.diff(labels[order])) + 1
+        depth = np.array([np.median(off[g]) for g in np.split(order, cuts)])
+        miss = np.abs(off - depth[labels])
+        worst = int(np.argmax(miss))
+        size = max(float(np.ptp(X, axis=0).max()), np.finfo(float).tiny)
+        if miss[worst] > tolerance * size:
+            first = int(np.flatnonzero(labels == labels[worst])[0])
+            raise ValueError(
+                f"{name} is not planar: vertex {worst} is {miss[worst]:.3g} off the plane of its "
+                f"piece (the piece of vertex {first}), which must be parallel to the plane of the "
+                f"base shape's pieces (tolerance {tolerance:g} x size {size:.3g} = "
+                f"{tolerance * size:.3g})")
+        return depth
+
+    def to_plane(self, shapes):
+        """[(n, 2)] plane coordinates of shapes (n, 3) (depths dropped; checked by fit())."""
+        return [self.plane.to_plane(X, "", np.inf) for X in shapes]
+
+    def to_space(self, uv, weights):
+        """3D points (n, 3) of plane coordinates uv (n, 2), every piece at the weights' blend
+        (k,) of its depths in the inputs (its own depth when all inputs share it)."""
+        d = np.asarray(weights, dtype=np.float64) @ self.depth
+        return self.plane.to_space(uv) + d[self.labels][:, None] * self.plane.normal
