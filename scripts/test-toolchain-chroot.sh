@@ -24,7 +24,12 @@ rm -rf /bdi-py && mkdir -p /bdi-py && cp -r /src/python/bdinterp /bdi-py/ && rm 
 cmake -S /src -B /bdi-build -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 \
   -DBDINTERP_PYTHON_OUTPUT_DIR=/bdi-py/bdinterp >/bdi-cmake.log 2>&1 || { tail -40 /bdi-cmake.log; exit 1; }
 cmake --build /bdi-build -j "${JOBS:-2}" >>/bdi-cmake.log 2>&1 || { tail -40 /bdi-cmake.log; exit 1; }
-(cd /bdi-build && ctest --output-on-failure -j "${JOBS:-2}" | tail -4)
+cd /bdi-build && { ctest --output-on-failure -j "${JOBS:-2}" >/bdi-ctest.log 2>&1 || { cat /bdi-ctest.log; exit 1; }; }
+grep -E "tests passed|tests failed" /bdi-ctest.log
+# the installed package (bdinterpConfig.cmake finds Eigen 5) works for a stand-alone project
+cmake --install /bdi-build --prefix /bdi-prefix >/dev/null
+cmake -S /src/examples/cpp -B /bdi-example -DCMAKE_PREFIX_PATH=/bdi-prefix >/dev/null
+cmake --build /bdi-example >/dev/null && /bdi-example/bend_bar | tail -1
 cd /src/tests && PYTHONPATH=/bdi-py python3 -m pytest -p no:cacheprovider python "$@"
 EOS
 args=$(printf " %q" "$@")
