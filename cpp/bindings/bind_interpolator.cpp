@@ -46,10 +46,7 @@ void bind_options(py::module_& m) {
                 "allow chord steps with an earlier factorisation");
 }
 
-}  // namespace
-
-void bind_interpolator(py::module_& m) {
-  bind_options(m);
+void bind_threading_info(py::module_& m) {
   m.def(
       "threading_info",
       [] {
@@ -72,6 +69,13 @@ void bind_interpolator(py::module_& m) {
       "of the OpenMP runtime CHOLMOD calls, whose teams may shrink to the idle cores; None if none), "
       "core_round_trip_ns (a cache line's last measured round trip between a frame's thread and a "
       "pool worker, None before the first; beyond 160 ns small loops run serially).");
+}
+
+}  // namespace
+
+void bind_interpolator(py::module_& m) {
+  bind_options(m);
+  bind_threading_info(m);
   py::class_<Interpolator>(m, "Interpolator")
       .def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
                     const InterpolatorOptions&>(),
