@@ -109,11 +109,24 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
             box.prop_search(props, "anchor_group", obj, "vertex_groups", text="Group")
         box.prop(props, "anchor_path", text="Path")
         layout.prop(props, "drivers", text="Playback Slider")
+        together = character_size(context, obj)
+        if together > 1:
+            draw_message(layout, "Bakes %d selected objects as one character (slider here)"
+                         % together, icon='INFO', width=wrap_width(context))
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
         row.operator("bdinterp.clear", text="", icon='TRASH')
         draw_bake(layout, context, obj)
+
+
+def character_size(context, obj):
+    """How many mesh objects a bake solves together: the active one and the selected ones that
+    have the target key (operators.selected_meshes, character.members)."""
+    target = obj.bdi.target
+    objs = {obj} | {o for o in context.selected_objects if o.type == 'MESH'}
+    return sum(1 for o in objs if target and o.data.shape_keys is not None
+               and o.data.shape_keys.key_blocks.get(target) is not None)
 
 
 def draw_bake(layout, context, obj):
@@ -166,6 +179,7 @@ class BDINTERP_PT_expert(_Panel, bpy.types.Panel):
         split.label(text="Method")
         split.prop(props, "method", text="")
         layout.prop(props, "tolerance", text="Planarity")
+        layout.prop(props, "joints", text="Joints")
 
 
 class BDINTERP_PT_poses(_Panel, bpy.types.Panel):
