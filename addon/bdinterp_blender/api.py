@@ -111,10 +111,13 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
 
 
 def clear(obj, target, source=None):
-    """Remove a bake of source -> target: its keys, their drivers and the slider property."""
-    key = mesh_io.key_of(obj)
-    src = mesh_io.key_block(key, source)
-    return playback.remove(obj, src.name, target, keep_slider=False)
+    """Remove a bake of source -> target: its keys, their drivers and the slider property.
+    obj may be a list of objects (a character): each that has the target key is cleared (the
+    shared slider goes with its owner). Returns the names of the removed keys."""
+    objs = character.members(obj, target) if isinstance(obj, (list, tuple)) else [obj]
+    srcs = [mesh_io.key_block(mesh_io.key_of(o), source).name for o in objs]  # all checked first
+    return [name for o, src in zip(objs, srcs)
+            for name in playback.remove(o, src, target, keep_slider=False)]
 
 
 def set_live(obj, target=None, factor=None, weights=None, source=None, enable=True, anchor=None):

@@ -139,12 +139,13 @@ class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
 
 
 class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
-    """Remove the baked in-betweens of the source and target keys, their drivers and slider"""
+    """Remove the baked in-betweens of the source and target keys, their drivers and slider
+    (of every selected object that has the target key, as the bake made them)"""
     bl_idname = "bdinterp.clear"
     bl_label = "Clear Bake"
 
     def run(self, context, obj):
-        removed = api.clear(obj, obj.bdi.target, obj.bdi.source or None)
+        removed = api.clear(selected_meshes(context), obj.bdi.target, obj.bdi.source or None)
         return "Removed %d baked keys" % len(removed)
 
 

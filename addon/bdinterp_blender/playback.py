@@ -162,7 +162,7 @@ def remove(obj, source, target, keep_slider=True, owner=None):
     recs = records(obj)
     if recs.pop(prop, None) is not None:
         obj[BAKES_PROP] = recs
-    if not keep_slider and prop in owner.keys():
+    if not keep_slider and owner == obj and prop in owner.keys():  # the owner's own clear only
         del owner[prop]
     return removed
 

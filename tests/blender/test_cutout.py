@@ -125,6 +125,10 @@ def test_one_slider_on_the_active_object_plays_every_object(addon, character):
         shown = [cb.world(o, evaluated_co(o)) for o in objs]
         expected = [cb.world(o, read_key(o, key)) for o in objs]
         assert max(np.abs(a - b).max() for a, b in zip(shown, expected)) < TOL * size, s
+    # clearing the character removes every object's keys and drivers, and the slider
+    assert len(addon.clear(objs, cb.TARGET)) == len(objs)
+    assert all(cb.baked(o) == [] and not o.data.shape_keys.animation_data.drivers for o in objs)
+    assert slider not in objs[0].keys()
 
 
 def test_selection_bakes_in_one_undo_step(addon, character):
