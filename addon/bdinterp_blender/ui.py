@@ -163,6 +163,10 @@ def draw_result(layout, text, width):
     col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
               icon='CHECKMARK' if ok else 'ERROR')
     col.label(text="Folded polygons: %d" % r["folded"], icon='CHECKMARK' if not r["folded"] else 'ERROR')
+    if r.get("objects", 1) > 1:
+        col.label(text="Objects: %d (one character)" % r["objects"])
+    if r.get("joints"):
+        col.label(text="Joints between pieces: %d" % r["joints"])
     col.label(text="Time: %.2f s" % r["seconds"])
     if r.get("note"):
         draw_message(col, r["note"], icon='INFO', width=width - 2)

@@ -191,3 +191,16 @@ def test_the_example_bakes_one_and_seven_objects(addon, tmp_path):
         assert found[case]["linear"] < JOINED, found
         assert found[case]["arap"] > 0.05, found  # ARAP places each piece on its own
         assert os.path.isfile(os.path.join(str(tmp_path), "cutout_%s.blend" % case))
+
+
+def test_the_panel_says_what_a_selection_bakes(addon, character):
+    from test_ui import draw_all
+    pieces, joints, size = character
+    objs = cb.seven_objects(pieces)
+    objs[0].bdi.target = cb.TARGET
+    labels = [e[1] for e in draw_all(bpy.context) if e[0] == "label"]
+    assert "Bakes 7 selected objects as one character (slider here)" in " ".join(labels)
+    assert ("prop", "joints") in draw_all(bpy.context)  # Expert > Joints
+    assert bpy.ops.bdinterp.bake() == {'FINISHED'}
+    labels = [e[1] for e in draw_all(bpy.context) if e[0] == "label"]
+    assert {"Objects: 7 (one character)", "Joints between pieces: 6"} <= set(labels)
