@@ -11,11 +11,11 @@ from mathutils import Euler, Matrix, Vector
 import cutout_character as cc
 
 # Object transforms (rotation in degrees, scale, location) of the seven-object character: every
-# object's local coordinates differ from the world's.
+# object's local coordinates differ from the world's (turned, scaled unevenly, one mirrored).
 TRANSFORMS = {"Torso": ((0, 0, 0), (1, 1, 1), (0, 0, 0)),
               "Head": ((90, 0, 30), (2, 2, 2), (1, -3, 0.5)),
               "EyeL": ((10, 20, 30), (0.5, 0.5, 0.5), (0, 0, 2)),
-              "EyeR": ((-30, 45, 0), (1, 1, 1), (-2, 1, 0)),
+              "EyeR": ((-30, 45, 0), (-1, 1, 1), (-2, 1, 0)),  # mirrored, as a copied eye
               "UpperArm": ((0, 90, 0), (1.5, 0.7, 1.2), (3, 0, 0)),
               "Forearm": ((0, 0, 135), (1, 1, 1), (0.5, 0.5, -1)),
               "Hand": ((45, 45, 45), (0.8, 1.25, 2.0), (-1, -1, -1))}
