@@ -58,15 +58,17 @@ def mask_weights(obj, kb):
 
 
 def read_shown(obj, kb, raw):
-    """kb's shape as Blender shows it at value 1, float64 (n, 3): its stored coordinates `raw`
-    (float32 (n*3,)), except that a vertex-group mask of weight w keeps a vertex at
-    relative + w (key - relative) (unmasked it would end where Blender never shows it)."""
+    """kb's shape as Blender shows it with kb alone at value 1, float64 (n, 3), from its stored
+    coordinates `raw` (float32 (n*3,)): reference + w (key - relative) per vertex, w the weight of
+    its vertex-group mask (1 without one). Only then is a masked key, or one relative to another
+    key, interpolated to where Blender shows it (its stored coordinates are shown nowhere)."""
     co = raw.reshape(-1, 3).astype(float)
+    ref, rel = kb.id_data.reference_key, kb.relative_key
     w = mask_weights(obj, kb)
-    if w is None or kb == kb.relative_key:
+    if kb == ref or (w is None and rel == ref):
         return co
-    rel = read_co(kb.relative_key)
-    return rel + w[:, None] * (co - rel)
+    delta = co - read_co(rel)
+    return read_co(ref) + (delta if w is None else w[:, None] * delta)
 
 
 def write_co(kb, co):
