@@ -31,6 +31,11 @@ def character():
     return pieces, joints, cb.size_of(pieces)
 
 
+def float32_step(X):
+    """float32's step at the largest coordinate of X: what writing a key may change."""
+    return np.spacing(np.float32(np.abs(X).max()))
+
+
 def state(objs):
     """Everything a bake could change: key names and data, custom properties (but the add-on's
     settings group, which its live-mode handler makes by reading it), drivers."""
@@ -49,7 +54,7 @@ def test_one_object_layered_character_keeps_joints_and_depths(addon, character):
     opening = cb.openings([obj], ranges, joints, size, cb.baked(obj))
     assert max(opening.values()) < min(OPEN, JOINED), opening
     X0 = read_key(obj, "Basis")
-    ulp = np.spacing(np.float32(np.abs(X0).max()))  # float32's step at the largest coordinate
+    ulp = float32_step(X0)
     for name in cb.baked(obj):
         assert np.abs(read_key(obj, name)[:, 2] - X0[:, 2]).max() <= ulp, name  # depths to float32
     # rigid keys give rigid in-betweens: every piece keeps its edge lengths
@@ -204,3 +209,15 @@ def test_the_panel_says_what_a_selection_bakes(addon, character):
     assert bpy.ops.bdinterp.bake() == {'FINISHED'}
     labels = [e[1] for e in draw_all(bpy.context) if e[0] == "label"]
     assert {"Objects: 7 (one character)", "Joints between pieces: 6"} <= set(labels)
+
+
+def test_live_mode_shows_the_layered_character_joined(addon, character):
+    pieces, joints, size = character
+    obj, ranges = cb.one_object(pieces)
+    for factor in (0.3, 0.8):
+        assert addon.set_live(obj, target=cb.TARGET, factor=factor) == "bdi.live"
+        opening = cb.openings([obj], ranges, joints, size, ["bdi.live"])
+        assert max(opening.values()) < JOINED, (factor, opening)
+        X0 = read_key(obj, "Basis")
+        assert np.abs(read_key(obj, "bdi.live")[:, 2] - X0[:, 2]).max() <= float32_step(X0), factor
+    assert not obj.bdi.live_error
