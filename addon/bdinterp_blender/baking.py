@@ -122,7 +122,7 @@ class BakeJob:
     def write(self, plan):
         """Write a plan's keys (and drivers, from the slider on plan.owner): (keys, slider)."""
         obj = plan.obj
-        playback.remove(obj, plan.source, plan.target, keep_slider=True, owner=plan.owner)
+        playback.remove(obj, plan.source, plan.target, keep_slider=True)  # the old bake's owner
         written = [write_key(obj, name, plan.source, co) for name, co in zip(plan.names, plan.frames)]
         keys = written[:len(self.positions)]
         if not self.drivers:

@@ -99,13 +99,15 @@ def _driven_by(kb, obj, prop):
 
 def own_animation(obj, kb, prop, owner=None):
     """Why the slider (on `owner`, default obj) must not take over kb's value ('' if it may):
-    keyframes, a driver that is not ours, or a value set by hand."""
-    obj = owner or obj
+    keyframes, a driver that is not ours (ours: from the slider on owner, or on the object that
+    held it at the last bake), or a value set by hand."""
+    owners = (owner or obj, _recorded_owner(obj, records(obj).get(prop)))
+    ours = any(_driven_by(kb, o, prop) for o in owners)
     if actions.find_fcurve(kb.id_data.animation_data, kb.path_from_id("value")):
         return "key %r has keyframes of its own" % kb.name
-    if _driver_of(kb) is not None and not _driven_by(kb, obj, prop):
+    if _driver_of(kb) is not None and not ours:
         return "key %r has a driver of its own" % kb.name
-    if kb.value != 0.0 and not _driven_by(kb, obj, prop):
+    if kb.value != 0.0 and not ours:
         return "key %r has a value set by hand (%.3g)" % (kb.name, kb.value)
     return ""
 
@@ -127,6 +129,8 @@ def install(obj, source, target, names, positions, end=None, signature_="", slid
         _drive(key.key_blocks[name], owner, prop, expr)
     _drive(key.key_blocks[end or target], owner, prop, last)
     record(obj, prop, source, target, names, end, signature_, owner.name)
+    if owner != obj and prop in obj.keys():  # obj's own slider of an earlier bake: now unused
+        del obj[prop]
     return prop
 
 
@@ -146,7 +150,7 @@ def remove(obj, source, target, keep_slider=True, owner=None):
         return []
     found = find(obj, source, target)
     prop = found.slider if found else slider_name(key, source, target)
-    owner = owner or _recorded_owner(obj, found)
+    owner = owner or _recorded_owner(obj, found.record if found else None)
     tgt = key.key_blocks.get(target)
     if tgt is not None and _driven_by(tgt, owner, prop):
         tgt.driver_remove("value")
@@ -167,9 +171,9 @@ def remove(obj, source, target, keep_slider=True, owner=None):
     return removed
 
 
-def _recorded_owner(obj, found):
-    """The object holding the slider of a found bake (obj itself unless baked as a character)."""
-    name = found.record.get("owner") if found else None
+def _recorded_owner(obj, record):
+    """The object holding the slider of a bake's record (obj itself unless baked as a character)."""
+    name = record.get("owner") if record else None
     if not name or name == obj.name:
         return obj
     import bpy

@@ -134,7 +134,11 @@ def draw_bake(layout, context, obj):
     and the result box."""
     width = wrap_width(context)
     found = _bake_of(obj)
-    if found is not None and found.slider in obj.keys():
+    owner = found.record.get("owner", obj.name) if found is not None else obj.name
+    if owner != obj.name:  # baked as part of a character: the slider is on another object
+        draw_message(layout, "Played by the slider %r of %r" % (found.slider, owner), icon='INFO',
+                     width=width)
+    elif found is not None and found.slider in obj.keys():
         layout.prop(obj, '["%s"]' % found.slider, text="Playback", slider=True)
         if found.status == "renamed":
             draw_message(layout, "Bake of the renamed target (slider %r); bake again to rename "

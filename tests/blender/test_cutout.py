@@ -130,10 +130,20 @@ def test_one_slider_on_the_active_object_plays_every_object(addon, character):
         shown = [cb.world(o, evaluated_co(o)) for o in objs]
         expected = [cb.world(o, read_key(o, key)) for o in objs]
         assert max(np.abs(a - b).max() for a, b in zip(shown, expected)) < TOL * size, s
+    # baked again from another active object: its slider takes over every object's keys
+    result = addon.bake(objs[::-1], target=cb.TARGET, count=1)
+    assert result.note == "" and result.slider == slider and slider in objs[-1].keys()
+    assert not any(slider in o.keys() for o in objs[:-1])
+    assert all(cb.baked(o) == [cb.TARGET + ".bdi.050"] for o in objs)  # no end-key copies
+    objs[-1][slider] = 1.0
+    objs[-1].update_tag()
+    shown = [cb.world(o, evaluated_co(o)) for o in objs]
+    expected = [cb.world(o, read_key(o, cb.TARGET)) for o in objs]
+    assert max(np.abs(a - b).max() for a, b in zip(shown, expected)) < TOL * size
     # clearing the character removes every object's keys and drivers, and the slider
     assert len(addon.clear(objs, cb.TARGET)) == len(objs)
     assert all(cb.baked(o) == [] and not o.data.shape_keys.animation_data.drivers for o in objs)
-    assert slider not in objs[0].keys()
+    assert slider not in objs[-1].keys()
 
 
 def test_selection_bakes_in_one_undo_step(addon, character):
@@ -209,6 +219,10 @@ def test_the_panel_says_what_a_selection_bakes(addon, character):
     assert bpy.ops.bdinterp.bake() == {'FINISHED'}
     labels = [e[1] for e in draw_all(bpy.context) if e[0] == "label"]
     assert {"Objects: 7 (one character)", "Joints between pieces: 6"} <= set(labels)
+    bpy.context.view_layer.objects.active = objs[-1]  # the hand's panel names the slider's owner
+    objs[-1].bdi.target = cb.TARGET
+    labels = " ".join(e[1] for e in draw_all(bpy.context) if e[0] == "label")
+    assert "Played by the slider 'Pose.bdi' of 'Torso'" in labels
 
 
 def test_live_mode_shows_the_layered_character_joined(addon, character):
