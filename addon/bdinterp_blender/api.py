@@ -99,8 +99,8 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
     names, ws = pose_weights(weights)
     inp = Inputs(obj, source, names, anchor, None, tolerance, joints)
     result = solve.blend_shape(inp, ws, inp.interpolator())
-    k_out = max_distortion(inp.shapes[0], [result], inp.faces)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    k_out = max_distortion(inp.shapes[0], [result], inp.faces, inp.layers)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
     folded = solve.folded_polygons(inp, [result])
     written = write_key(obj, name, inp.source.name, result)
     baking.store_result(obj, BakeResult(

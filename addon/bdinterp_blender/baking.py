@@ -113,8 +113,8 @@ class BakeJob:
         return BakeResult(
             keys=[], factors=self.factors, positions=self.positions, source=inp.source.name,
             target=inp.others[0].name, slider=None,
-            max_distortion=max_distortion(inp.shapes[0], frames, inp.faces),
-            input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces),
+            max_distortion=max_distortion(inp.shapes[0], frames, inp.faces, inp.layers),
+            input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
             folded=solve.folded_polygons(inp, frames), joints=stats.joints if stats else 0,
             note="; ".join(text for text in (folds, note) if text),
             seconds=time.perf_counter() - self.started)
@@ -275,8 +275,8 @@ def _bake_live_blend(obj, props):
     solver = inp.interpolator()
     shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
               for w in distinct]
-    k_out = max_distortion(inp.shapes[0], shapes, inp.faces)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    k_out = max_distortion(inp.shapes[0], shapes, inp.faces, inp.layers)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
     folded = solve.folded_polygons(inp, shapes)
     # --- everything computed; from here on the file is modified ---
     source, key = inp.source.name, obj.data.shape_keys

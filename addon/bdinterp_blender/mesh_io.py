@@ -95,11 +95,12 @@ def triangles(mesh):
 
 
 def project_layers(shapes, faces, rel_tol):
-    """Put every piece (loose part) of every shape exactly into its plane: the planes parallel to
-    the common plane of shapes[0]'s pieces (bdinterp.Layers, the package's one fit and tolerance
-    definition), each piece at its own depth in each shape (draw order). ValueError naming the
-    shape, the vertex and its piece if a vertex is farther than rel_tol x the shape's largest
-    extent from its piece's plane (also a piece whose plane is not parallel).
+    """(bdinterp.Layers, shapes) with every piece (loose part) of every shape put exactly into its
+    plane: the planes parallel to the common plane of shapes[0]'s pieces (bdinterp.Layers, the
+    package's one fit and tolerance definition), each piece at its own depth in each shape (draw
+    order). ValueError naming the shape, the vertex and its piece if a vertex is farther than
+    rel_tol x the shape's largest extent from its piece's plane (also a piece whose plane is not
+    parallel).
 
     Projecting here makes this (user-set) tolerance the one that counts: the core then sees
     exactly layered input (Blender's float32 coordinates are only planar to ~1e-7).
@@ -108,7 +109,7 @@ def project_layers(shapes, faces, rel_tol):
     from .core import load_core
     layers = load_core().Layers.fit(shapes, faces, base=0, tolerance=rel_tol)
     uv = layers.to_plane(shapes)
-    return [layers.to_space(x, np.eye(len(shapes))[i]) for i, x in enumerate(uv)]
+    return layers, [layers.to_space(x, np.eye(len(shapes))[i]) for i, x in enumerate(uv)]
 
 
 def anchor_vertex_of_group(obj, group_name):

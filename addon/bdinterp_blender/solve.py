@@ -46,11 +46,13 @@ class Inputs:
         self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
 
     def layered(self, shapes, tolerance):
-        """shapes with every piece put into its plane (mesh_io.project_layers), errors explained."""
+        """shapes with every piece put into its plane (mesh_io.project_layers; self.layers: their
+        Layers), errors explained."""
         try:
-            return mesh_io.project_layers(shapes, self.faces, tolerance)
+            self.layers, shapes = mesh_io.project_layers(shapes, self.faces, tolerance)
         except ValueError as exc:
             raise self.explain(exc) from exc
+        return shapes
 
     def explain(self, exc):
         """BakeError in Blender's terms: 'shape i' -> the key's name, 'face f' (a triangle of the
@@ -178,11 +180,12 @@ class FrameJob:
         return np.concatenate(self._parts) if self._parts else np.empty((0,) + self.inp.shapes[0].shape)
 
 
-def flat(shapes, faces):
+def flat(shapes, faces, layers=None):
     """Plane coordinates (n, 2) of 3D shapes whose pieces may lie in parallel planes (the plane
-    of shapes[0]'s pieces, depths dropped): the core's distortion measures take one plane."""
+    of `layers`, default fitted to shapes[0]'s pieces; depths dropped): the core's distortion
+    measures take one plane."""
     import numpy as np
-    return core().Layers.fit(shapes[:1], faces, tolerance=np.inf).to_plane(shapes)
+    return (layers or core().Layers.fit(shapes[:1], faces, tolerance=np.inf)).to_plane(shapes)
 
 
 def distortion(source, shape, faces):
@@ -191,17 +194,19 @@ def distortion(source, shape, faces):
     return core().conformal_distortion(s, x, faces)
 
 
-def max_distortion(source, results, faces):
-    """Largest per-triangle conformal distortion K of any of `results` against `source`."""
+def max_distortion(source, results, faces, layers=None):
+    """Largest per-triangle conformal distortion K of any of `results` against `source` (layers:
+    their Layers, e.g. Inputs.layers, else fitted)."""
     import numpy as np
-    return max(float(np.max(distortion(source, r, faces))) for r in results)
+    flats = flat([source] + list(results), faces, layers)
+    return max(float(np.max(core().conformal_distortion(flats[0], r, faces))) for r in flats[1:])
 
 
 def folded_polygons(inp, results):
     """Sorted polygon indices with a triangle flipped or collapsed (area ratio <= 0) in any result."""
     import numpy as np
     bd = core()
-    flats = flat([inp.shapes[0]] + list(results), inp.faces)
+    flats = flat([inp.shapes[0]] + list(results), inp.faces, inp.layers)
     bad = np.zeros(len(inp.faces), dtype=bool)
     for r in flats[1:]:
         bad |= np.asarray(bd.area_ratio(flats[0], r, inp.faces)) <= 0.0
