@@ -19,6 +19,7 @@ class BakeResult:
 
     def __init__(self, **kw):
         self.folded, self.seconds, self.note, self.joints, self.objects = [], 0.0, "", 0, 1
+        self.folded_name = ""  # how to name folded[0] (several objects: with its object)
         self.__dict__.update(kw)
 
     @property
@@ -31,7 +32,8 @@ class BakeResult:
         if self.joints:
             text += "; %d joint%s between pieces" % (self.joints, "" if self.joints == 1 else "s")
         if self.folded:
-            text += "; %d folded polygons (e.g. polygon %d)" % (len(self.folded), self.folded[0])
+            text += "; %d folded polygons (e.g. %s)" % (len(self.folded), self.folded_name
+                                                         or "polygon %d" % self.folded[0])
         return text + (" -- " + self.note if self.note else "")
 
     def summary(self):
@@ -110,12 +112,14 @@ class BakeJob:
         """The BakeResult of frames (keys and slider filled in by write())."""
         folds = solve.input_folds(inp, self.job.solver) if self.job.solver is not None else ""
         stats = self.job.solver.stats if self.job.solver is not None else None
+        folded = solve.folded_polygons(inp, frames)
         return BakeResult(
             keys=[], factors=self.factors, positions=self.positions, source=inp.source.name,
             target=inp.others[0].name, slider=None,
             max_distortion=max_distortion(inp.shapes[0], frames, inp.faces, inp.layers),
             input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
-            folded=solve.folded_polygons(inp, frames), joints=stats.joints if stats else 0,
+            folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
+            joints=stats.joints if stats else 0,
             note="; ".join(text for text in (folds, note) if text),
             seconds=time.perf_counter() - self.started)
 

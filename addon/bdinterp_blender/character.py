@@ -52,7 +52,9 @@ class CharacterInputs(solve.Inputs):
         self.names, self.joints, self.anchor = first.names, bool(joints), None
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
         self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
-        self.poly = np.concatenate([p.poly for p in self.parts])
+        # polygons numbered across the objects, so that folds count each object's apart
+        self.poly_offsets = np.cumsum([0] + [len(p.obj.data.polygons) for p in self.parts])
+        self.poly = np.concatenate([p.poly + o for p, o in zip(self.parts, self.poly_offsets)])
         self.face_offsets = np.cumsum([0] + [len(p.faces) for p in self.parts])
         self.raw = None
         world = [np.concatenate([_to_world(p.obj, p.shapes[i]) for p in self.parts])
@@ -69,6 +71,12 @@ class CharacterInputs(solve.Inputs):
             return "vertex %d" % v
         part, local = self._part(v, self.offsets)
         return "vertex %d of %r" % (local, part.obj_name)
+
+    def polygon_name(self, p):
+        if not 0 <= p < self.poly_offsets[-1]:
+            return "polygon %d" % p
+        part, local = self._part(p, self.poly_offsets)
+        return "polygon %d of %r" % (local, part.obj_name)
 
     def _polygon(self, f):
         if not 0 <= f < self.face_offsets[-1]:

@@ -67,6 +67,10 @@ class Inputs:
         """How a message names vertex v of the solved mesh (several objects: which one's)."""
         return "vertex %d" % v
 
+    def polygon_name(self, p):
+        """How a message names polygon p of self.poly (several objects: which one's)."""
+        return "polygon %d" % p
+
     def _key_name(self, i):
         return "key %r" % self.names[i] if 0 <= i < len(self.names) else "shape %d" % i
 
@@ -221,9 +225,9 @@ def input_folds(inp, solver):
         tris = solver.folded_faces(i)
         if len(tris):
             polys = sorted(set(int(p) for p in inp.poly[tris]))
-            out.append("key %r has %d folded polygon%s near vertex %d"
+            out.append("key %r has %d folded polygon%s near %s"
                        % (name, len(polys), "" if len(polys) == 1 else "s",
-                          int(inp.faces[tris[0], 0])))
+                          inp.vertex_name(int(inp.faces[tris[0], 0]))))
     return "; ".join(out)
 
 

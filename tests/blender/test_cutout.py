@@ -6,6 +6,7 @@ from the triangles that hold each pin (cutout_character.joint_openings), without
 import json
 import math
 import os
+import re
 import sys
 
 import bpy
@@ -235,3 +236,17 @@ def test_live_mode_shows_the_layered_character_joined(addon, character):
         X0 = read_key(obj, "Basis")
         assert np.abs(read_key(obj, "bdi.live")[:, 2] - X0[:, 2]).max() <= float32_step(X0), factor
     assert not obj.bdi.live_error
+
+
+def test_a_folded_key_is_reported_with_its_object(addon, character):
+    pieces, joints, size = character
+    hand = pieces[-1]
+    assert hand.name == "Hand" and len(hand.source) == 15  # 3 x 5 vertices: 7 is the middle one
+    hand.target[7] += 1.6 * (hand.target[8] - hand.target[7])  # pushed past its row's end
+    objs = cb.seven_objects(pieces)
+    result = addon.bake(objs, target=cb.TARGET, count=3)
+    found = re.search(r"key 'Pose' has (\d+) folded polygons? near vertex (\d+) of 'Hand'",
+                      result.note)
+    assert found, result.note
+    around = [i for i, f in enumerate(hand.polygons) if 7 in f]  # the quads around vertex 7
+    assert 1 <= int(found.group(1)) <= len(around) == 4
