@@ -148,8 +148,18 @@ def body_tail(degrees=300.0, seed=10):
     return V, F, Y
 
 
+def cutout():
+    """A cut-out character of seven loose pieces at depths 0, 0.01, ..., 0.06 (draw order): the
+    arm raised 150 degrees at the shoulder, the elbow bent 90, the head tilted 30 (issue #20;
+    the pieces and the pins are in cutout/cutout_character.py)."""
+    sys.path.insert(0, os.path.join(HERE, "cutout"))
+    import cutout_character as cc
+    V, Y, polygons, _ = cc.one_mesh(cc.character()[0])
+    return V, cc.fan(polygons), Y
+
+
 EXAMPLES = {f.__name__: f for f in (bar_half_bent, spiral, affine, conformal,
-                                    teichmuller, folded, skinned_swing, body_tail)}
+                                    teichmuller, folded, skinned_swing, body_tail, cutout)}
 
 
 def write_example(name, V, F, Y):

@@ -45,7 +45,8 @@ LABELS = {"affine": "affine (Fig. 4)", "bar_half_bent": "bar_half_bent (Fig. 11)
           "spiral": "spiral (1.5 turns)", "folded": "folded (Fig. 10, folded target)",
           "letter_8": "letter_8 (2 holes)", "letter_e": "letter_e (Blender text, a hole)",
           "skinned_swing": "skinned_swing (armature, folds)",
-          "body_tail": "body_tail (tail bent 300°)"}
+          "body_tail": "body_tail (tail bent 300°)",
+          "cutout": "cutout (7 layered pieces, 6 pins)"}
 README_BEGIN = "<!-- gallery table: written by scripts/make_gallery.py -->"
 README_END = "<!-- end of gallery table -->"
 
@@ -68,11 +69,32 @@ def away_from_folds(X0, X1, F, rings=2):
     return ~meshes.near_faces(F, folded, rings) if folded.any() else None
 
 
-def numbers(X0, X1, F, result):
+def joint_openings(name, X0, F, result):
+    """{method: the largest joint opening over t (x size)} of an example made of pinned pieces
+    (cutout: examples/cutout/cutout_character.py measures it), else None."""
+    if name != "cutout":
+        return None
+    sys.path.insert(0, os.path.join(ROOT, "examples", "cutout"))
+    import cutout_character as cc
+    pieces, joints = cc.character()
+    tris_of = {piece: F[np.isin(F[:, 0], list(r))] for piece, r in cc.one_mesh(pieces)[3].items()}
+    size = float(np.linalg.norm(np.ptp(X0, axis=0)))
+    return {m: max(cc.joint_openings(X0, r["frames"], tris_of, joints, size).values())
+            for m, r in result.items()}
+
+
+def flat(X):
+    """The examples lie in the XY plane; a layered one (cutout) has its pieces' depths in z, which
+    the in-plane results do not depend on (tests/python/test_layers.py): dropped here."""
+    return X[:, :2] if X.shape[1] == 3 else X
+
+
+def numbers(X0, X1, F, result, joints=None):
     """Per method: max K over t and over 0 < t < 1, the most flipped faces in a frame and in an
     in-between, frames with flips, flipped faces and the largest vertex error at t = 1 (relative
-    to the target's largest extent), Newton iterations (-1: not Newton); for a folded target
-    also max K and the most flipped faces of an in-between away from the folds."""
+    to the target's largest extent), Newton iterations (-1: not Newton), the largest joint
+    opening (joints: joint_openings(), or None); for a folded target also max K and the most
+    flipped faces of an in-between away from the folds."""
     inner = (TS > 0) & (TS < 1)
     size = float(np.ptp(X1, axis=0).max())
     away = away_from_folds(X0, X1, F)
@@ -83,7 +105,7 @@ def numbers(X0, X1, F, result):
                   "frames with flips": np.count_nonzero(r["flipped"]),
                   "flipped at 1": r["flipped"][-1],
                   "error at 1": np.linalg.norm(r["frames"][-1] - X1, axis=1).max() / size,
-                  "iterations": r["iterations"]}
+                  "iterations": r["iterations"], "joints": joints[m] if joints else None}
         if away is not None:
             frames = r["frames"][inner]
             out[m]["K away"] = np.max(r["K"][inner][:, away])
@@ -112,6 +134,10 @@ def table(name, X0, X1, F, nums):
                   "must behave like a valid one): " + "; ".join(
                       f"{m} max K {n['K away']:.4g}, at most {n['flipped away']} flipped"
                       for m, n in nums.items()) + "."]
+    if next(iter(nums.values()))["joints"] is not None:
+        lines += ["", "The joints' largest opening over t (the distance between where the parent's "
+                  "and the child's triangles carry a pin, x the source's diagonal): " + "; ".join(
+                      f"{m} {n['joints']:.2g}" for m, n in nums.items()) + "."]
     return "\n".join(lines) + "\n"
 
 
@@ -120,8 +146,9 @@ def summary(rows):
     methods = " / ".join(bdinterp.METHODS)
     lines = [f"| example | vertices | input max K | max K, 0 < t < 1: {methods} "
              f"| most faces flipped in an in-between: {methods} "
-             f"| error at t = 1 (x size): {methods} | BDI Newton iterations (most) |",
-             "|---|---|---|---|---|---|---|"]
+             f"| error at t = 1 (x size): {methods} | BDI Newton iterations (most) "
+             f"| joints' largest opening (x size): {methods} |",
+             "|---|---|---|---|---|---|---|---|"]
     for name, X0, X1, F, nums in rows:
         K_in = bdinterp.conformal_distortion(X0, X1, F)
         folded = np.count_nonzero(bdinterp.area_ratio(X0, X1, F) <= 0)
@@ -135,8 +162,15 @@ def summary(rows):
                      + f" | {each('K inner', 'K away', '.4g')} "
                      f"| {each('flipped inner', 'flipped away', 'd')} "
                      f"| {' / '.join(format(n['error at 1'], '.1g') for n in nums.values())} "
-                     f"| {nums['bdi']['iterations']} |")
+                     f"| {nums['bdi']['iterations']} | {openings(nums)} |")
     return "\n".join(lines) + "\n"
+
+
+def openings(nums):
+    """'bdi / arap / linear' joint openings of an example with joints, else '-'."""
+    if next(iter(nums.values()))["joints"] is None:
+        return "-"
+    return " / ".join(format(n["joints"], ".2g") for n in nums.values())
 
 
 def write_readme(text, path=os.path.join(ROOT, "README.md")):
@@ -174,6 +208,7 @@ def main():
     for name, folder in examples(args.names):
         X0, X1, F = io.read_pair(os.path.join(folder, "source.obj"),
                                  os.path.join(folder, "target.obj"))
+        X0, X1 = flat(X0), flat(X1)
         t = PICTURED_T.get(name, 0.5)
         bar = Progress(len(TS) * len(bdinterp.METHODS), name)
         result = figures.sweep(X0, X1, F, TS, progress=bar)
@@ -184,7 +219,7 @@ def main():
         save(figures.distortion_curves_figure(
             X0, X1, F, TS, result["bdi"]["frames"], result["bdi"]["K"],
             sample), os.path.join(args.out, f"{name}_distortion.png"))
-        nums = numbers(X0, X1, F, result)
+        nums = numbers(X0, X1, F, result, joint_openings(name, X0, F, result))
         rows.append((name, X0, X1, F, nums))
         md += [table(name, X0, X1, F, nums),
                f"![{name}: frames at t={t:g}]({name}_compare.png)", "",

@@ -3,14 +3,15 @@
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
 Modules import one way: core (loader) -> names, timing, mesh_io -> solve (shapes -> frames, no
-writes) -> playback, live, distortion, baking (each writes one kind of thing) -> api (the
-scripting facade) -> properties, operators -> ui -> this file (registration).
+writes) -> playback, live, distortion, baking (each writes one kind of thing) -> character
+(several objects baked as one) -> api (the scripting facade) -> properties, operators -> ui ->
+this file (registration).
 """
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "api", "properties", "operators", "ui"):
+                  "baking", "character", "api", "properties", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 

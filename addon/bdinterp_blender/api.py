@@ -15,42 +15,65 @@ RuntimeError from the solver) leaves the object unchanged.
 
 import time
 
-from . import baking, distortion, live, mesh_io, playback, solve
+from . import baking, character, distortion, live, mesh_io, playback, solve
 from .baking import BakeJob, BakeResult, run, write_key
 from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
-__all__ = ["bake", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
+__all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
            "hide_distortion", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
+
+
+def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
+             anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
+             joints=True):
+    """The validated BakeJob of a bake (parameters as in bake()), not yet computed: one object's,
+    or, for a list of objects of which several have the target key, the character's."""
+    if isinstance(obj, (list, tuple)):
+        objs = character.members(obj, target)
+        if len(objs) > 1:
+            if anchor_path is not None:
+                raise BakeError("an anchor path works for one object, not for a character of %d"
+                                % len(objs))
+            return character.CharacterBakeJob(objs, target, source, count, factors, easing,
+                                              anchor, method, tolerance, drivers, joints)
+        obj = objs[0] if objs else (obj[0] if obj else None)  # its own errors say what is wrong
+    return BakeJob(obj, target, source, count, factors, easing, anchor, anchor_path, method,
+                   tolerance, drivers, joints)
 
 
 def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINEAR",
                    anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                   progress=None):
+                   progress=None, joints=True):
     """Compute in-betweens without writing anything.
 
     Returns (inputs, positions, factors, frames) with frames a (k, n, 3) float64 array in the
-    mesh's local coordinates.  Parameters as in bake().
+    mesh's local coordinates (a list of objects: world coordinates, the objects' vertices one
+    after the other, inputs.offsets where each begins).  Parameters as in bake().
     """
-    job = BakeJob(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                  tolerance)
+    job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
+                   tolerance, True, joints)
     run(job, progress)
     return job.inp, job.positions, job.factors, job.job.frames()
 
 
 def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
          anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-         progress=None):
+         progress=None, joints=True):
     """Bake in-betweens of `source` -> `target` into new shape keys; return a BakeResult.
 
-    obj: mesh object with shape keys.  target/source: key names (source default: the reference
+    obj: mesh object with shape keys, or a list of them: those that have the target key are
+    solved as one cut-out character in world space (pieces of different objects that overlap
+    are joined), each written in its own local coordinates, all driven by the slider of the
+    first of them; a failure writes into none of them.  target/source: key names (source default: the reference
     key).  count: number of evenly timed in-betweens, or factors: explicit list in (0, 1).
     easing: 'LINEAR', 'EASE_IN', 'EASE_OUT', 'EASE_IN_OUT' or a callable u -> t (custom curve).
     anchor: 'AUTO', a vertex index or a vertex group name; anchor_path: a curve object the
     anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  tolerance: planarity,
     relative to the mesh size.  progress(done, total): called after each chunk of frames;
-    returning False cancels (BakeError, nothing written).
+    returning False cancels (BakeError, nothing written).  joints: pieces (loose parts) that
+    overlap stay joined where they are pinned (docs/JOINTS.md); False places each on its own.
 
     Keys are named '<target>.bdi.<percent>' (e.g. 'Arm_up.bdi.050'), hold the in-between shape
     and are relative to the source key; an earlier bake of the same pair is replaced (also
@@ -59,14 +82,14 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     in-betweens -> target, also without the add-on.  The slider drives the target key itself
     only if that has no keyframes, driver or value of its own (else a copy, result.note says so).
     """
-    job = BakeJob(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                  tolerance, drivers)
+    job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
+                   tolerance, drivers, joints)
     run(job, progress)
     return job.finish()
 
 
 def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
-          tolerance=DEFAULT_TOLERANCE):
+          tolerance=DEFAULT_TOLERANCE, joints=True):
     """Bake a pose blend (paper Section 5): one key `name`, relative to the source.
 
     weights: {pose key name: weight}; see pose_weights() for how the source's weight follows.
@@ -74,10 +97,10 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
     """
     started = time.perf_counter()
     names, ws = pose_weights(weights)
-    inp = Inputs(obj, source, names, anchor, None, tolerance)
-    result = solve.blend_shape(inp, ws)
-    k_out = max_distortion(inp.shapes[0], [result], inp.faces)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    inp = Inputs(obj, source, names, anchor, None, tolerance, joints)
+    result = solve.blend_shape(inp, ws, inp.interpolator())
+    k_out = max_distortion(inp.shapes[0], [result], inp.faces, inp.layers)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
     folded = solve.folded_polygons(inp, [result])
     written = write_key(obj, name, inp.source.name, result)
     baking.store_result(obj, BakeResult(
@@ -88,10 +111,13 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
 
 
 def clear(obj, target, source=None):
-    """Remove a bake of source -> target: its keys, their drivers and the slider property."""
-    key = mesh_io.key_of(obj)
-    src = mesh_io.key_block(key, source)
-    return playback.remove(obj, src.name, target, keep_slider=False)
+    """Remove a bake of source -> target: its keys, their drivers and the slider property.
+    obj may be a list of objects (a character): each that has the target key is cleared (the
+    shared slider goes with its owner). Returns the names of the removed keys."""
+    objs = character.members(obj, target) if isinstance(obj, (list, tuple)) else [obj]
+    srcs = [mesh_io.key_block(mesh_io.key_of(o), source).name for o in objs]  # all checked first
+    return [name for o, src in zip(objs, srcs)
+            for name in playback.remove(o, src, target, keep_slider=False)]
 
 
 def set_live(obj, target=None, factor=None, weights=None, source=None, enable=True, anchor=None):

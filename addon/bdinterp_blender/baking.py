@@ -18,7 +18,8 @@ class BakeResult:
     did not take over the target key)."""
 
     def __init__(self, **kw):
-        self.folded, self.seconds, self.note = [], 0.0, ""
+        self.folded, self.seconds, self.note, self.joints, self.objects = [], 0.0, "", 0, 1
+        self.folded_name = ""  # how to name folded[0] (several objects: with its object)
         self.__dict__.update(kw)
 
     @property
@@ -26,15 +27,21 @@ class BakeResult:
         text = ("Baked %d in-betweens %s -> %s: max distortion %.4g (inputs %.4g)"
                 % (len(self.keys), self.source, self.target, self.max_distortion,
                    self.input_distortion))
+        if self.objects > 1:
+            text += " in %d objects" % self.objects
+        if self.joints:
+            text += "; %d joint%s between pieces" % (self.joints, "" if self.joints == 1 else "s")
         if self.folded:
-            text += "; %d folded polygons (e.g. polygon %d)" % (len(self.folded), self.folded[0])
+            text += "; %d folded polygons (e.g. %s)" % (len(self.folded), self.folded_name
+                                                         or "polygon %d" % self.folded[0])
         return text + (" -- " + self.note if self.note else "")
 
     def summary(self):
         """JSON-able dict (the panel's result box, bake_folder.py's summary)."""
         return {"keys": len(self.keys), "source": self.source, "target": self.target,
                 "max_distortion": self.max_distortion, "input_distortion": self.input_distortion,
-                "folded": len(self.folded), "seconds": round(self.seconds, 3), "note": self.note}
+                "folded": len(self.folded), "seconds": round(self.seconds, 3), "note": self.note,
+                "joints": self.joints, "objects": self.objects}
 
     def __repr__(self):
         return "BakeResult(%s)" % self.message
@@ -46,13 +53,18 @@ class BakeJob:
 
     def __init__(self, obj, target, source=None, count=3, factors=None, easing="LINEAR",
                  anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                 drivers=True):
+                 drivers=True, joints=True):
         self.started = time.perf_counter()
         self.positions, ts = timing.schedule(count, factors, easing)
-        self.inp = Inputs(obj, source, [target], anchor, anchor_path, tolerance)
+        self.inp = self.inputs(obj, source, target, anchor, anchor_path, tolerance, joints)
         self.names = timing.key_names(self.inp.others[0].name, ts)
         self.factors, self.drivers = ts, drivers
         self.job = solve.FrameJob(self.inp, ts, method)
+
+    @staticmethod
+    def inputs(obj, source, target, anchor, anchor_path, tolerance, joints):
+        """The validated Inputs of the bake (a character of several objects overrides this)."""
+        return Inputs(obj, source, [target], anchor, anchor_path, tolerance, joints)
 
     @property
     def total(self):
@@ -68,12 +80,22 @@ class BakeJob:
 
     def finish(self):
         """Compute what is left, then write keys, drivers and the record; return a BakeResult."""
-        inp, obj = self.inp, self.inp.obj
+        inp = self.inp
         frames = list(self.job.frames())
+        plan = self.plan(inp.obj, inp, frames, inp.obj)
+        result = self.result(inp, plan.frames, plan.note)
+        # --- everything computed; from here on the file is modified ---
+        result.keys, result.slider = self.write(plan)
+        store_result(inp.obj, result.summary())
+        return result
+
+    def plan(self, obj, inp, frames, owner):
+        """What to write into obj (keys, frames, end key, slider on `owner`), computed, not written."""
         src, tgt = inp.source, inp.others[0]
-        found = playback.find(obj, src.name, tgt.name)
-        slider = found.slider if found else playback.slider_name(inp.key, src.name, tgt.name)
-        note = playback.own_animation(obj, tgt, slider) if self.drivers else ""
+        found = playback.find(owner, src.name, tgt.name)
+        slider = found.slider if found else playback.slider_name(owner.data.shape_keys, src.name,
+                                                                 tgt.name)
+        note = playback.own_animation(obj, tgt, slider, owner) if self.drivers else ""
         names, end_key = list(self.names), None
         # The slider ends on the target itself only if it is relative to the source and has no
         # animation of its own; otherwise on an end key equal to the target.
@@ -82,29 +104,43 @@ class BakeJob:
             names, frames = names + [end_key], frames + [inp.shapes[1]]
         if note:
             note += ", so the slider drives the copy %r instead" % end_key
+        return Plan(obj=obj, owner=owner, source=src.name, target=tgt.name, names=names,
+                    frames=frames, end_key=end_key, slider=slider, note=note,
+                    signature=playback.signature(tgt))
+
+    def result(self, inp, frames, note):
+        """The BakeResult of frames (keys and slider filled in by write())."""
         folds = solve.input_folds(inp, self.job.solver) if self.job.solver is not None else ""
-        note = "; ".join(text for text in (folds, note) if text)
-        k_out = max_distortion(inp.shapes[0], frames, inp.faces)
-        k_in = max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces)
+        stats = self.job.solver.stats if self.job.solver is not None else None
         folded = solve.folded_polygons(inp, frames)
-        signature = playback.signature(tgt)
-        # --- everything computed; from here on the file is modified ---
-        src_name, tgt_name = src.name, tgt.name
-        playback.remove(obj, src_name, tgt_name, keep_slider=True)
-        written = [write_key(obj, name, src_name, co) for name, co in zip(names, frames)]
+        return BakeResult(
+            keys=[], factors=self.factors, positions=self.positions, source=inp.source.name,
+            target=inp.others[0].name, slider=None,
+            max_distortion=max_distortion(inp.shapes[0], frames, inp.faces, inp.layers),
+            input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
+            folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
+            joints=stats.joints if stats else 0,
+            note="; ".join(text for text in (folds, note) if text),
+            seconds=time.perf_counter() - self.started)
+
+    def write(self, plan):
+        """Write a plan's keys (and drivers, from the slider on plan.owner): (keys, slider)."""
+        obj = plan.obj
+        playback.remove(obj, plan.source, plan.target, keep_slider=True)  # the old bake's owner
+        written = [write_key(obj, name, plan.source, co) for name, co in zip(plan.names, plan.frames)]
         keys = written[:len(self.positions)]
-        if self.drivers:
-            slider = playback.install(obj, src_name, tgt_name, keys, self.positions,
-                                      end=written[-1] if end_key else None,
-                                      signature_=signature, slider=slider)
-        else:
-            slider = None
-        result = BakeResult(keys=keys, factors=self.factors, positions=self.positions,
-                            source=src_name, target=tgt_name, slider=slider, max_distortion=k_out,
-                            input_distortion=k_in, folded=folded, note=note,
-                            seconds=time.perf_counter() - self.started)
-        store_result(obj, result.summary())
-        return result
+        if not self.drivers:
+            return keys, None
+        return keys, playback.install(obj, plan.source, plan.target, keys, self.positions,
+                                      end=written[-1] if plan.end_key else None,
+                                      signature_=plan.signature, slider=plan.slider, owner=plan.owner)
+
+
+class Plan:
+    """What BakeJob.write() writes into one object (see BakeJob.plan)."""
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
 
 
 def store_result(obj, summary):
@@ -181,7 +217,8 @@ def bake_live(obj, count=None):
     if props.live_mode == 'BLEND':
         return _bake_live_blend(obj, props)
     job = BakeJob(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
-                  solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True)
+                  solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True,
+                  props.joints)
     kind, curve = _factor_curve(obj)
     result = job.finish()
     path = '["%s"]' % result.slider
@@ -238,12 +275,12 @@ def _bake_live_blend(obj, props):
     per_frame = _weights_per_frame(obj, props, frames)
     distinct = sorted(set(per_frame), key=per_frame.index)
     inp = Inputs(obj, props.source or None, [p.key for p in props.poses], solve.anchor_choice(props),
-                 None, props.tolerance)
+                 None, props.tolerance, props.joints)
     solver = inp.interpolator()
     shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
               for w in distinct]
-    k_out = max_distortion(inp.shapes[0], shapes, inp.faces)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces)
+    k_out = max_distortion(inp.shapes[0], shapes, inp.faces, inp.layers)
+    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
     folded = solve.folded_polygons(inp, shapes)
     # --- everything computed; from here on the file is modified ---
     source, key = inp.source.name, obj.data.shape_keys

@@ -39,12 +39,11 @@ def per_face(obj, key_name=None):
         raise mesh_io.BakeError("%r is relative to itself; pick a baked or live key" % kb.name)
     faces, poly = mesh_io.triangles(obj.data)
     src, n_poly = mesh_io.read_co(base), len(obj.data.polygons)
-    bd = solve.core()
-    k_poly = _per_polygon(bd.conformal_distortion(src, mesh_io.read_co(kb), faces), poly, n_poly)
+    k_poly = _per_polygon(solve.distortion(src, mesh_io.read_co(kb), faces), poly, n_poly)
     inputs = _input_keys(obj, key, kb)
     if not inputs:
         return k_poly, None
-    k_in = np.max([_per_polygon(bd.conformal_distortion(src, mesh_io.read_co(i), faces), poly, n_poly)
+    k_in = np.max([_per_polygon(solve.distortion(src, mesh_io.read_co(i), faces), poly, n_poly)
                    for i in inputs], axis=0)
     return k_poly, k_in
 

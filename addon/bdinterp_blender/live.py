@@ -21,7 +21,7 @@ from . import mesh_io, solve
 from .mesh_io import BakeError
 from .names import LIVE_KEY, LIVE_WARNING
 
-Settings = namedtuple("Settings", "mode source target poses anchor path tolerance method")
+Settings = namedtuple("Settings", "mode source target poses anchor path tolerance method joints")
 
 
 class State:
@@ -43,7 +43,7 @@ def settings_of(props):
     poses = tuple(p.key for p in props.poses) if props.live_mode == 'BLEND' else ()
     path = props.anchor_path.name if props.anchor_path is not None else None
     return Settings(props.live_mode, props.source, props.target, poses, anchor, path,
-                    props.tolerance, props.method)
+                    props.tolerance, props.method, props.joints)
 
 
 def prepare(obj, settings):
@@ -52,11 +52,11 @@ def prepare(obj, settings):
         if not settings.poses:
             raise BakeError("%s: live pose blend has no poses; add some under Pose Blend" % obj.name)
         inp = solve.Inputs(obj, settings.source, list(settings.poses), settings.anchor, None,
-                           settings.tolerance)
+                           settings.tolerance, settings.joints)
         return State(settings, inp, inp.interpolator())
     path = bpy.data.objects.get(settings.path) if settings.path else None
     inp = solve.Inputs(obj, settings.source, [settings.target], settings.anchor, path,
-                       settings.tolerance)
+                       settings.tolerance, settings.joints)
     return State(settings, inp, inp.interpolator() if settings.method == 'bdi' else None)
 
 

@@ -41,6 +41,36 @@ def read_co(kb):
     return read_raw(kb).reshape(-1, 3).astype(float)
 
 
+def mask_weights(obj, kb):
+    """(n,) the weights of kb's vertex-group mask (its Vertex Group field), or None without one."""
+    import numpy as np
+    if not kb.vertex_group:
+        return None
+    group = obj.vertex_groups.get(kb.vertex_group)
+    if group is None:  # Blender ignores a mask naming no group: the key shows unmasked
+        return None
+    w = np.zeros(len(obj.data.vertices))
+    for v in obj.data.vertices:  # vertex groups have no foreach access
+        for g in v.groups:
+            if g.group == group.index:
+                w[v.index] = g.weight
+    return w
+
+
+def read_shown(obj, kb, raw):
+    """kb's shape as Blender shows it with kb alone at value 1, float64 (n, 3), from its stored
+    coordinates `raw` (float32 (n*3,)): reference + w (key - relative) per vertex, w the weight of
+    its vertex-group mask (1 without one). Only then is a masked key, or one relative to another
+    key, interpolated to where Blender shows it (its stored coordinates are shown nowhere)."""
+    co = raw.reshape(-1, 3).astype(float)
+    ref, rel = kb.id_data.reference_key, kb.relative_key
+    w = mask_weights(obj, kb)
+    if kb == ref or (w is None and rel == ref):
+        return co
+    delta = co - read_co(rel)
+    return read_co(ref) + (delta if w is None else w[:, None] * delta)
+
+
 def write_co(kb, co):
     import numpy as np
     kb.data.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
@@ -64,27 +94,22 @@ def triangles(mesh):
     return faces.reshape(-1, 3).astype(np.int64), poly.astype(np.int64)
 
 
-def project_planar(shapes, names, rel_tol):
-    """Project every shape onto the plane of shapes[0] (bdinterp.Plane, the package's one fit and
-    tolerance definition); BakeError if a key is farther from it than rel_tol x its largest extent,
-    saying by how much.
+def project_layers(shapes, faces, rel_tol):
+    """(bdinterp.Layers, shapes) with every piece (loose part) of every shape put exactly into its
+    plane: the planes parallel to the common plane of shapes[0]'s pieces (bdinterp.Layers, the
+    package's one fit and tolerance definition), each piece at its own depth in each shape (draw
+    order). ValueError naming the shape, the vertex and its piece if a vertex is farther than
+    rel_tol x the shape's largest extent from its piece's plane (also a piece whose plane is not
+    parallel).
 
     Projecting here makes this (user-set) tolerance the one that counts: the core then sees
-    exactly planar input (Blender's float32 coordinates are only planar to ~1e-7).
+    exactly layered input (Blender's float32 coordinates are only planar to ~1e-7).
     """
     import numpy as np
     from .core import load_core
-    plane = load_core().Plane.fit(shapes[0])
-    bad, out = [], []
-    for co, name in zip(shapes, names):
-        worst, off, size = plane.farthest(co)
-        if off > rel_tol * size:
-            bad.append("%r is off by %.6g (vertex %d; tolerance %g x size %.4g = %.3g)"
-                       % (name, off, worst, rel_tol, size, rel_tol * size))
-        out.append(plane.to_space(plane.to_plane(co, name, np.inf)))
-    if bad:
-        raise BakeError("shape keys are not planar: %s" % "; ".join(bad))
-    return out
+    layers = load_core().Layers.fit(shapes, faces, base=0, tolerance=rel_tol)
+    uv = layers.to_plane(shapes)
+    return layers, [layers.to_space(x, np.eye(len(shapes))[i]) for i, x in enumerate(uv)]
 
 
 def anchor_vertex_of_group(obj, group_name):

@@ -34,12 +34,19 @@ def bake_settings(props):
     """Keyword arguments of api.bake() from the panel settings."""
     kw = dict(target=props.target, source=props.source or None, easing=easing_of(props),
               anchor=anchor_of(props), anchor_path=props.anchor_path, method=props.method,
-              tolerance=props.tolerance, drivers=props.drivers)
+              tolerance=props.tolerance, drivers=props.drivers, joints=props.joints)
     if props.use_factors:
         kw["factors"] = timing.parse_factors(props.factors)
     else:
         kw["count"] = props.count
     return kw
+
+
+def selected_meshes(context):
+    """The active object, then the other selected mesh objects: a bake solves those that have
+    the target key as one character (the active object's settings and slider)."""
+    others = [o for o in context.selected_objects if o.type == 'MESH' and o != context.object]
+    return [context.object] + sorted(others, key=lambda o: o.name)
 
 
 class _ObjectOperator:
@@ -72,7 +79,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
 
     def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
-        job = api.BakeJob(obj, **bake_settings(obj.bdi))
+        job = api.bake_job(selected_meshes(context), **bake_settings(obj.bdi))
         wm.progress_begin(0, job.total)
         try:
             while not job.finished:
@@ -84,7 +91,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
     def invoke(self, context, event):
         """From the UI: one chunk of frames per timer event, with progress, Esc cancels."""
         try:
-            self._job = api.BakeJob(context.object, **bake_settings(context.object.bdi))
+            self._job = api.bake_job(selected_meshes(context), **bake_settings(context.object.bdi))
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
@@ -132,12 +139,13 @@ class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
 
 
 class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
-    """Remove the baked in-betweens of the source and target keys, their drivers and slider"""
+    """Remove the baked in-betweens of the source and target keys, their drivers and slider
+    (of every selected object that has the target key, as the bake made them)"""
     bl_idname = "bdinterp.clear"
     bl_label = "Clear Bake"
 
     def run(self, context, obj):
-        removed = api.clear(obj, obj.bdi.target, obj.bdi.source or None)
+        removed = api.clear(selected_meshes(context), obj.bdi.target, obj.bdi.source or None)
         return "Removed %d baked keys" % len(removed)
 
 
@@ -150,7 +158,8 @@ class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
         props = obj.bdi
         name, k_out, k_in = api.blend(obj, [(p.key, p.weight) for p in props.poses],
                                       source=props.source or None, name=props.blend_name,
-                                      anchor=anchor_of(props), tolerance=props.tolerance)
+                                      anchor=anchor_of(props), tolerance=props.tolerance,
+                                      joints=props.joints)
         return "Baked %s: max distortion %.4g (poses %.4g)" % (name, k_out, k_in)
 
 

@@ -91,59 +91,68 @@ def _driver_of(kb):
 
 
 def _driven_by(kb, obj, prop):
-    """True if kb.value has a driver reading our slider (so it is ours to remove)."""
+    """True if kb.value has a driver reading our slider on obj (so it is ours to remove)."""
     fc = _driver_of(kb)
     return fc is not None and any(t.id == obj and t.data_path == _prop_path(prop)
                                   for v in fc.driver.variables for t in v.targets)
 
 
-def own_animation(obj, kb, prop):
-    """Why the slider must not take over kb's value ('' if it may): keyframes, a driver that is
-    not ours, or a value set by hand."""
+def own_animation(obj, kb, prop, owner=None):
+    """Why the slider (on `owner`, default obj) must not take over kb's value ('' if it may):
+    keyframes, a driver that is not ours (ours: from the slider on owner, or on the object that
+    held it at the last bake), or a value set by hand."""
+    owners = (owner or obj, _recorded_owner(obj, records(obj).get(prop)))
+    ours = any(_driven_by(kb, o, prop) for o in owners)
     if actions.find_fcurve(kb.id_data.animation_data, kb.path_from_id("value")):
         return "key %r has keyframes of its own" % kb.name
-    if _driver_of(kb) is not None and not _driven_by(kb, obj, prop):
+    if _driver_of(kb) is not None and not ours:
         return "key %r has a driver of its own" % kb.name
-    if kb.value != 0.0 and not _driven_by(kb, obj, prop):
+    if kb.value != 0.0 and not ours:
         return "key %r has a value set by hand (%.3g)" % (kb.name, kb.value)
     return ""
 
 
-def install(obj, source, target, names, positions, end=None, signature_="", slider=None):
+def install(obj, source, target, names, positions, end=None, signature_="", slider=None,
+            owner=None):
     """Drive keys `names` (at slider `positions`) and the target (or `end`) from the custom
-    property `slider` (default slider_name()); record the bake; return the slider's name."""
-    key = obj.data.shape_keys
+    property `slider` (default slider_name()) of `owner` (default obj: several objects baked as
+    one character share the active object's slider); record the bake; return the slider's name."""
+    key, owner = obj.data.shape_keys, owner or obj
     prop = slider or slider_name(key, source, target)
-    if prop not in obj.keys():
-        obj[prop] = 0.0
-    obj.id_properties_ui(prop).update(
+    if prop not in owner.keys():
+        owner[prop] = 0.0
+    owner.id_properties_ui(prop).update(
         min=0.0, max=1.0, soft_min=0.0, soft_max=1.0,
         description="bdinterp playback %s -> %s (drives the baked in-between keys)" % (source, target))
     exprs, last = timing.tent_expressions(positions)
     for name, expr in zip(names, exprs):
-        _drive(key.key_blocks[name], obj, prop, expr)
-    _drive(key.key_blocks[end or target], obj, prop, last)
-    record(obj, prop, source, target, names, end, signature_)
+        _drive(key.key_blocks[name], owner, prop, expr)
+    _drive(key.key_blocks[end or target], owner, prop, last)
+    record(obj, prop, source, target, names, end, signature_, owner.name)
+    if owner != obj and prop in obj.keys():  # obj's own slider of an earlier bake: now unused
+        del obj[prop]
     return prop
 
 
-def record(obj, slider, source, target, keys, end=None, signature_=""):
+def record(obj, slider, source, target, keys, end=None, signature_="", owner=""):
     recs = records(obj)
     recs[slider] = {"source": source, "target": target, "keys": list(keys), "end": end or "",
-                    "signature": signature_}
+                    "signature": signature_, "owner": owner or obj.name}
     obj[BAKES_PROP] = recs
 
 
-def remove(obj, source, target, keep_slider=True):
-    """Remove the bake of source -> target (keys, drivers, record; the slider unless keep_slider),
-    also when the target was renamed since.  Returns the names of the removed keys."""
+def remove(obj, source, target, keep_slider=True, owner=None):
+    """Remove the bake of source -> target (keys, drivers, record; the slider, on `owner`, default
+    the one recorded, unless keep_slider), also when the target was renamed since.  Returns the
+    names of the removed keys."""
     key = obj.data.shape_keys
     if key is None:
         return []
     found = find(obj, source, target)
     prop = found.slider if found else slider_name(key, source, target)
+    owner = owner or _recorded_owner(obj, found.record if found else None)
     tgt = key.key_blocks.get(target)
-    if tgt is not None and _driven_by(tgt, obj, prop):
+    if tgt is not None and _driven_by(tgt, owner, prop):
         tgt.driver_remove("value")
         tgt.value = 0.0
     names = set(found.keys + ([found.end] if found.end else [])) if found else set()
@@ -157,6 +166,15 @@ def remove(obj, source, target, keep_slider=True):
     recs = records(obj)
     if recs.pop(prop, None) is not None:
         obj[BAKES_PROP] = recs
-    if not keep_slider and prop in obj.keys():
-        del obj[prop]
+    if not keep_slider and owner == obj and prop in owner.keys():  # the owner's own clear only
+        del owner[prop]
     return removed
+
+
+def _recorded_owner(obj, record):
+    """The object holding the slider of a bake's record (obj itself unless baked as a character)."""
+    name = record.get("owner") if record else None
+    if not name or name == obj.name:
+        return obj
+    import bpy
+    return bpy.data.objects.get(name) or obj

@@ -67,6 +67,9 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                              update=_live_changed,
                              description="Allowed distance of a key from the plane, relative to "
                                          "the mesh size")
+    joints: BoolProperty(name="Joints", default=True, update=_live_changed,
+                         description="Keep pieces that overlap joined where they are pinned: each "
+                                     "child piece is placed where its parent carries the joint")
     drivers: BoolProperty(name="Playback Slider", default=True,
                           description="Drive the baked keys from one slider with native drivers")
     poses: CollectionProperty(type=BDI_PoseItem)

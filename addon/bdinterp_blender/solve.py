@@ -25,7 +25,7 @@ class Inputs:
     """
 
     def __init__(self, obj, source, others, anchor="AUTO", anchor_path=None,
-                 tolerance=DEFAULT_TOLERANCE):
+                 tolerance=DEFAULT_TOLERANCE, joints=True):
         self.obj, self.obj_name = obj, obj.name if obj is not None else "No object"
         self.key = mesh_io.key_of(obj)
         self.source = mesh_io.key_block(self.key, source)
@@ -38,19 +38,38 @@ class Inputs:
             if kb == self.source:
                 raise BakeError("target %r is the source key; pick another target" % kb.name)
         blocks = [self.source] + self.others
-        self.names = [kb.name for kb in blocks]
+        self.names, self.joints = [kb.name for kb in blocks], bool(joints)
         self.raw = [mesh_io.read_raw(kb) for kb in blocks]
-        self.shapes = mesh_io.project_planar([r.reshape(-1, 3).astype(float) for r in self.raw],
-                                             self.names, tolerance)
         self.faces, self.poly = mesh_io.triangles(obj.data)
+        self.shapes = self.layered([mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)],
+                                   tolerance)
         self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
+
+    def layered(self, shapes, tolerance):
+        """shapes with every piece put into its plane (mesh_io.project_layers; self.layers: their
+        Layers), errors explained."""
+        try:
+            self.layers, shapes = mesh_io.project_layers(shapes, self.faces, tolerance)
+        except ValueError as exc:
+            raise self.explain(exc) from exc
+        return shapes
 
     def explain(self, exc):
         """BakeError in Blender's terms: 'shape i' -> the key's name, 'face f' (a triangle of the
-        tessellation) -> its polygon, prefixed with the object's name."""
+        tessellation) -> its polygon, 'vertex v' -> the object's vertex, prefixed with the
+        object's name."""
         text = re.sub(r"\bshape (\d+)\b", lambda m: self._key_name(int(m.group(1))), str(exc))
         text = re.sub(r"\bface (\d+)\b", lambda m: self._polygon(int(m.group(1))), text)
+        text = re.sub(r"\bvertex (\d+)\b", lambda m: self.vertex_name(int(m.group(1))), text)
         return BakeError("%s: %s" % (self.obj_name, text))
+
+    def vertex_name(self, v):
+        """How a message names vertex v of the solved mesh (several objects: which one's)."""
+        return "vertex %d" % v
+
+    def polygon_name(self, p):
+        """How a message names polygon p of self.poly (several objects: which one's)."""
+        return "polygon %d" % p
 
     def _key_name(self, i):
         return "key %r" % self.names[i] if 0 <= i < len(self.names) else "shape %d" % i
@@ -61,7 +80,8 @@ class Inputs:
     def interpolator(self):
         """A precomputed bdinterp.Interpolator of these shapes (base: the source)."""
         try:
-            return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0)
+            return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0,
+                                       joints=self.joints)
         except ValueError as exc:
             raise self.explain(exc) from exc
 
@@ -164,20 +184,36 @@ class FrameJob:
         return np.concatenate(self._parts) if self._parts else np.empty((0,) + self.inp.shapes[0].shape)
 
 
-def max_distortion(source, results, faces):
-    """Largest per-triangle conformal distortion K of any of `results` against `source`."""
+def flat(shapes, faces, layers=None):
+    """Plane coordinates (n, 2) of 3D shapes whose pieces may lie in parallel planes (the plane
+    of `layers`, default fitted to shapes[0]'s pieces; depths dropped): the core's distortion
+    measures take one plane."""
     import numpy as np
-    bd = core()
-    return max(float(np.max(bd.conformal_distortion(source, r, faces))) for r in results)
+    return (layers or core().Layers.fit(shapes[:1], faces, tolerance=np.inf)).to_plane(shapes)
+
+
+def distortion(source, shape, faces):
+    """(m,) conformal distortion K of every triangle of source -> shape (layered pieces too)."""
+    s, x = flat([source, shape], faces)
+    return core().conformal_distortion(s, x, faces)
+
+
+def max_distortion(source, results, faces, layers=None):
+    """Largest per-triangle conformal distortion K of any of `results` against `source` (layers:
+    their Layers, e.g. Inputs.layers, else fitted)."""
+    import numpy as np
+    flats = flat([source] + list(results), faces, layers)
+    return max(float(np.max(core().conformal_distortion(flats[0], r, faces))) for r in flats[1:])
 
 
 def folded_polygons(inp, results):
     """Sorted polygon indices with a triangle flipped or collapsed (area ratio <= 0) in any result."""
     import numpy as np
     bd = core()
+    flats = flat([inp.shapes[0]] + list(results), inp.faces, inp.layers)
     bad = np.zeros(len(inp.faces), dtype=bool)
-    for r in results:
-        bad |= np.asarray(bd.area_ratio(inp.shapes[0], r, inp.faces)) <= 0.0
+    for r in flats[1:]:
+        bad |= np.asarray(bd.area_ratio(flats[0], r, inp.faces)) <= 0.0
     return sorted(set(int(p) for p in inp.poly[bad]))
 
 
@@ -189,9 +225,9 @@ def input_folds(inp, solver):
         tris = solver.folded_faces(i)
         if len(tris):
             polys = sorted(set(int(p) for p in inp.poly[tris]))
-            out.append("key %r has %d folded polygon%s near vertex %d"
+            out.append("key %r has %d folded polygon%s near %s"
                        % (name, len(polys), "" if len(polys) == 1 else "s",
-                          int(inp.faces[tris[0], 0])))
+                          inp.vertex_name(int(inp.faces[tris[0], 0]))))
     return "; ".join(out)
 
 

@@ -109,6 +109,10 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
             box.prop_search(props, "anchor_group", obj, "vertex_groups", text="Group")
         box.prop(props, "anchor_path", text="Path")
         layout.prop(props, "drivers", text="Playback Slider")
+        together = character_size(context, obj)
+        if together > 1:
+            draw_message(layout, "Bakes %d selected objects as one character (slider here)"
+                         % together, icon='INFO', width=wrap_width(context))
         row = layout.row(align=True)
         row.scale_y = 1.4
         row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
@@ -116,12 +120,25 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         draw_bake(layout, context, obj)
 
 
+def character_size(context, obj):
+    """How many mesh objects a bake solves together: the active one and the selected ones that
+    have the target key (operators.selected_meshes, character.members)."""
+    target = obj.bdi.target
+    objs = {obj} | {o for o in context.selected_objects if o.type == 'MESH'}
+    return sum(1 for o in objs if target and o.data.shape_keys is not None
+               and o.data.shape_keys.key_blocks.get(target) is not None)
+
+
 def draw_bake(layout, context, obj):
     """The playback slider of the current pair's bake (found also after a rename), its status,
     and the result box."""
     width = wrap_width(context)
     found = _bake_of(obj)
-    if found is not None and found.slider in obj.keys():
+    owner = found.record.get("owner", obj.name) if found is not None else obj.name
+    if owner != obj.name:  # baked as part of a character: the slider is on another object
+        draw_message(layout, "Played by the slider %r of %r" % (found.slider, owner), icon='INFO',
+                     width=width)
+    elif found is not None and found.slider in obj.keys():
         layout.prop(obj, '["%s"]' % found.slider, text="Playback", slider=True)
         if found.status == "renamed":
             draw_message(layout, "Bake of the renamed target (slider %r); bake again to rename "
@@ -150,6 +167,10 @@ def draw_result(layout, text, width):
     col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
               icon='CHECKMARK' if ok else 'ERROR')
     col.label(text="Folded polygons: %d" % r["folded"], icon='CHECKMARK' if not r["folded"] else 'ERROR')
+    if r.get("objects", 1) > 1:
+        col.label(text="Objects: %d (one character)" % r["objects"])
+    if r.get("joints"):
+        col.label(text="Joints between pieces: %d" % r["joints"])
     col.label(text="Time: %.2f s" % r["seconds"])
     if r.get("note"):
         draw_message(col, r["note"], icon='INFO', width=width - 2)
@@ -166,6 +187,7 @@ class BDINTERP_PT_expert(_Panel, bpy.types.Panel):
         split.label(text="Method")
         split.prop(props, "method", text="")
         layout.prop(props, "tolerance", text="Planarity")
+        layout.prop(props, "joints", text="Joints")
 
 
 class BDINTERP_PT_poses(_Panel, bpy.types.Panel):

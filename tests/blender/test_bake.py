@@ -6,7 +6,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import (TOL, bent_strip, key_names, maxdiff, ngon_xz, read_key,
+from conftest import (TOL, bent_strip, evaluated_co, key_names, maxdiff, ngon_xz, read_key,
                       text_glyph, triangles, two_pieces, add_key)
 
 
@@ -143,7 +143,8 @@ def test_anchor_follows_path(bd):
 
 
 def test_keys_relative_to_another_key(bd):
-    """Source is not the reference key; target is relative to a third key."""
+    """Source is not the reference key; target is relative to a third key: it is read as Blender
+    shows it alone at value 1 (reference + key - its relative key), not as its stored coordinates."""
     obj = two_pieces()
     S = read_key(obj, "Move")
     mid = 0.5 * (read_key(obj, "Basis") + S)
@@ -151,12 +152,20 @@ def test_keys_relative_to_another_key(bd):
     tgt = S.copy()
     tgt[:, 0] *= 1.1
     add_key(obj, "Wide", tgt, relative="Mid")
+    obj.data.shape_keys.key_blocks["Wide"].value = 1.0
+    shown = evaluated_co(obj)  # Blender's own evaluation
+    obj.data.shape_keys.key_blocks["Wide"].value = 0.0
+    assert maxdiff(shown, tgt) > 0.1  # not the stored coordinates
     configure(obj, "Wide", source="Move", count=2)
     bpy.ops.bdinterp.bake()
-    check_baked(bd, obj, "Move", "Wide", [1 / 3, 2 / 3])
+    faces = triangles(obj)
+    names = [n for n in key_names(obj) if n.startswith("Wide.bdi.") and n != "Wide.bdi.100"]
+    assert len(names) == 2
+    for name, t in zip(names, [1 / 3, 2 / 3]):
+        assert maxdiff(read_key(obj, name), bd.interpolate(S, shown, faces, t)) < TOL, name
     # 'Wide' is relative to 'Mid', not to the source: the playback ends on a baked copy of it
     end = obj.data.shape_keys.key_blocks["Wide.bdi.100"]
-    assert end.relative_key.name == "Move" and maxdiff(read_key(obj, end.name), tgt) < TOL
+    assert end.relative_key.name == "Move" and maxdiff(read_key(obj, end.name), shown) < TOL
 
 
 def test_undo_restores_key_list(addon):
@@ -189,7 +198,7 @@ def test_error_non_planar_key_says_by_how_much(addon):
     bad[5, 2] += 0.05
     add_key(obj, "Bumpy", bad)
     configure(obj, "Bumpy")
-    _unchanged_after_error(obj, r"not planar: 'Bumpy' is off by 0\.05.*vertex 5")
+    _unchanged_after_error(obj, r"Strip: key 'Bumpy' is not planar: vertex 5 is 0\.05 off the plane")
 
 
 def test_error_mesh_without_keys(addon):

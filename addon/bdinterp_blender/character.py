@@ -1,0 +1,125 @@
+"""Several mesh objects baked as one cut-out character (issue #20, point 4).
+
+The objects that have the target key are solved as one mesh in world space, so that pieces of
+different objects overlap and are joined like pieces of one object; each object's in-betweens
+are written back in its own local coordinates, driven by one slider on the active object.
+"""
+
+from . import solve
+from .baking import BakeJob, store_result
+from .mesh_io import BakeError
+from .names import DEFAULT_TOLERANCE
+
+
+def _to_world(obj, co):
+    import numpy as np
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    return co @ m[:3, :3].T + m[:3, 3]
+
+
+def _to_local(obj, co):
+    import numpy as np
+    m = np.array(obj.matrix_world, dtype=np.float64)
+    return np.linalg.solve(m[:3, :3], (co - m[:3, 3]).T).T
+
+
+def members(objects, target):
+    """The mesh objects of `objects` (in order, once each) that have the shape key `target`."""
+    out = []
+    for obj in objects:
+        key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
+        if key is not None and key.key_blocks.get(target or "") is not None and obj not in out:
+            out.append(obj)
+    return out
+
+
+class CharacterInputs(solve.Inputs):
+    """The Inputs of several objects as one mesh in world space: shapes (k, n, 3) concatenated in
+    the order of `parts` (each object's own validated Inputs), faces renumbered; obj is the first
+    object (the active one, whose slider plays the bake)."""
+
+    def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
+                 joints=True):
+        import numpy as np
+        if anchor not in (None, "AUTO", "auto"):
+            raise BakeError("a character of several objects takes the automatic anchor, not %r"
+                            % (anchor,))
+        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, joints)
+                      for obj in objs]
+        first = self.parts[0]
+        self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
+        self.obj_name = "character of %d objects" % len(objs)
+        self.names, self.joints, self.anchor = first.names, bool(joints), None
+        self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
+        self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
+        # polygons numbered across the objects, so that folds count each object's apart
+        self.poly_offsets = np.cumsum([0] + [len(p.obj.data.polygons) for p in self.parts])
+        self.poly = np.concatenate([p.poly + o for p, o in zip(self.parts, self.poly_offsets)])
+        self.face_offsets = np.cumsum([0] + [len(p.faces) for p in self.parts])
+        self.raw = None
+        world = [np.concatenate([_to_world(p.obj, p.shapes[i]) for p in self.parts])
+                 for i in range(len(self.names))]
+        self.shapes = self.layered(world, tolerance)
+
+    def _part(self, index, offsets):
+        import numpy as np
+        i = int(np.searchsorted(offsets, index, side="right")) - 1
+        return self.parts[i], index - int(offsets[i])
+
+    def vertex_name(self, v):
+        if not 0 <= v < self.offsets[-1]:
+            return "vertex %d" % v
+        part, local = self._part(v, self.offsets)
+        return "vertex %d of %r" % (local, part.obj_name)
+
+    def polygon_name(self, p):
+        if not 0 <= p < self.poly_offsets[-1]:
+            return "polygon %d" % p
+        part, local = self._part(p, self.poly_offsets)
+        return "polygon %d of %r" % (local, part.obj_name)
+
+    def _polygon(self, f):
+        if not 0 <= f < self.face_offsets[-1]:
+            return "face %d" % f
+        part, local = self._part(f, self.face_offsets)
+        return "polygon %d of %r" % (part.poly[local], part.obj_name)
+
+    def local(self, frames):
+        """[(part, its frames (k, n_i, 3) in its object's local coordinates)] of world frames."""
+        import numpy as np
+        frames = np.asarray(frames, dtype=np.float64).reshape(-1, self.offsets[-1], 3)
+        return [(p, [_to_local(p.obj, X[a:b]) for X in frames])
+                for p, a, b in zip(self.parts, self.offsets[:-1], self.offsets[1:])]
+
+
+class CharacterBakeJob(BakeJob):
+    """BakeJob of several objects: computed once for all, written into each (one slider, on the
+    first object, drives every object's keys)."""
+
+    def __init__(self, objs, target, source=None, count=3, factors=None, easing="LINEAR",
+                 anchor="AUTO", method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
+                 joints=True):
+        self._objs = members(objs, target)
+        super().__init__(self._objs[0], target, source, count, factors, easing, anchor, None,
+                         method, tolerance, drivers, joints)
+
+    def inputs(self, obj, source, target, anchor, anchor_path, tolerance, joints):
+        return CharacterInputs(self._objs, source, target, anchor, tolerance, joints)
+
+    def finish(self):
+        """Compute what is left, plan every object, then write them all; a BakeResult."""
+        inp = self.inp
+        frames = list(self.job.frames())
+        plans = [self.plan(part.obj, part, local, inp.obj) for part, local in inp.local(frames)]
+        ends = [inp.shapes[1]] if any(p.end_key for p in plans) else []
+        result = self.result(inp, frames + ends, "; ".join(
+            "%s: %s" % (p.obj.name, p.note) for p in plans if p.note))
+        result.objects = len(plans)
+        # --- everything computed; from here on the file is modified ---
+        for plan in plans:
+            keys, slider = self.write(plan)
+            result.keys = result.keys or keys
+            result.slider = result.slider or slider
+        for plan in plans:
+            store_result(plan.obj, result.summary())
+        return result
