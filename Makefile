@@ -76,10 +76,12 @@ test: test-cpp test-python test-blender test-blender-43 test-blender-52 test-too
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py
 
+# In a variable: a comma inside $(or ...) would split its arguments (only --sizes=5000 ran).
+BENCH_SIZES = --sizes=5000,50000,500000
 bench: setup      ## speed table (docs/BENCHMARKS.md); BENCH_ARGS="--sizes=5000 --reps=3" for a short run
 	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DBDINTERP_BENCH=ON -DBDINTERP_PYTHON=OFF -DBDINTERP_TESTS=OFF
 	cmake --build build-bench -j $(JOBS) --target bdinterp_bench
-	build-bench/bdinterp_bench $(or $(BENCH_ARGS),--sizes=5000,50000,500000 --reps=3)
+	build-bench/bdinterp_bench $(or $(BENCH_ARGS),$(BENCH_SIZES) --reps=3)
 
 clean:
 	rm -rf $(BUILD) build-bench build-bench-source dist out
@@ -127,7 +129,7 @@ bench-cholmod-source: suitesparse  ## speed: Debian's CHOLMOD and CHOLMOD from s
 	cmake --build build-bench -j $(JOBS) --target bdinterp_bench
 	cmake --build build-bench-source -j $(JOBS) --target bdinterp_bench
 	for b in build-bench build-bench-source; do echo "== $$b"; \
-	  $$b/bdinterp_bench $(or $(BENCH_ARGS),--sizes=5000,50000,500000 --reps=3 --busy=) | sed -n '/^Summary/,$$p'; done
+	  $$b/bdinterp_bench $(or $(BENCH_ARGS),$(BENCH_SIZES) --reps=3 --busy=) | sed -n '/^Summary/,$$p'; done
 
 # --- fuzzing and sanitizers (docs/FUZZING.md) -----------------------------------------------------
 # `make fuzz`: both libFuzzer targets of tests/fuzz (clang, ASan + UBSan), each run FUZZ_SECONDS on a
