@@ -27,6 +27,8 @@ int loop_threads(long items);
 // The cores this process may use: the online CPUs, limited by its affinity mask (taskset, a farm's
 // cpuset) and by its cgroup's CPU quota (cpu.max: docker --cpus, a Kubernetes limit), which
 // std::thread::hardware_concurrency() ignores. The pool's chunks and frames()'s default workers.
+// Windows: the process's affinity mask only (a job object's CPU rate limit is not read); macOS: the
+// active CPUs (it has neither masks nor cgroups). See detail::affinity_cores.
 int usable_cores();
 
 // Whether the pool judges the machine busy (other programs leave this process fewer than two
