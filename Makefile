@@ -13,7 +13,8 @@ EXTENSION_ZIP = dist/bdinterp_blender-$(VERSION)-extension.zip
 LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
 .PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
-        test-blender-43 test-blender-52 test-toolchain-sid test-wheel gallery bench clean
+        test-blender-43 test-blender-52 test-toolchain-sid test-wheel gallery bench clean \
+        suitesparse test-cholmod-source test-windows test-libcxx test-extension-split bench-cholmod-source
 
 setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
@@ -70,23 +71,71 @@ test-wheel: addon  ## `pip wheel .` and the portable wheel install into a Python
 	bash scripts/test-wheel.sh $(BUILD)/wheel-test
 
 test: test-cpp test-python test-blender test-blender-43 test-blender-52 test-toolchain-sid test-wheel \
-      fuzz asan  ## everything CI runs
+      fuzz asan test-cholmod-source test-windows test-libcxx test-extension-split  ## everything CI runs
 
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py
 
+# In a variable: a comma inside $(or ...) would split its arguments (only --sizes=5000 ran).
+BENCH_SIZES = --sizes=5000,50000,500000
 bench: setup      ## speed table (docs/BENCHMARKS.md); BENCH_ARGS="--sizes=5000 --reps=3" for a short run
 	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DBDINTERP_BENCH=ON -DBDINTERP_PYTHON=OFF -DBDINTERP_TESTS=OFF
 	cmake --build build-bench -j $(JOBS) --target bdinterp_bench
-	build-bench/bdinterp_bench $(or $(BENCH_ARGS),--sizes=5000,50000,500000 --reps=3)
+	build-bench/bdinterp_bench $(or $(BENCH_ARGS),$(BENCH_SIZES) --reps=3)
 
 clean:
-	rm -rf $(BUILD) build-bench dist out
+	rm -rf $(BUILD) build-bench build-bench-source dist out
+
+# --- other platforms (docs/PLATFORMS.md) ----------------------------------------------------------
+# CHOLMOD from Debian 13's SuiteSparse 7 source (one tree for all: the one `make portable` fetches),
+# without BLAS/LAPACK: simplicial factors only, as on a platform with no BLAS at hand.
+SUITESPARSE    = $(PORTABLE)/suitesparse
+SOURCE_CHOLMOD = -DBDINTERP_SUITESPARSE_SOURCE=$(CURDIR)/$(SUITESPARSE)/src -DBDINTERP_CHOLMOD_BLAS=OFF
+GTEST_SOURCE   = -DBDINTERP_GTEST_SOURCE=/usr/src/googletest
+WINE          ?= /usr/lib/wine/wine64
+WINE_ENV       = WINEPREFIX=$(CURDIR)/$(BUILD)/wineprefix WINEDEBUG=-all
+suitesparse: setup  ## SuiteSparse 7 source (Debian 13's, through the trixie chroot's apt; root)
+	bash scripts/make-chroot.sh blender $(BDI_CHROOTS)/trixie
+	bash scripts/fetch-suitesparse.sh $(SUITESPARSE) $(BDI_CHROOTS)/trixie
+
+test-cholmod-source: suitesparse  ## the C++ suite with CHOLMOD built from source, no BLAS (Linux)
+	cmake -S . -B $(BUILD)/cholmod-source -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PYTHON=OFF $(SOURCE_CHOLMOD)
+	cmake --build $(BUILD)/cholmod-source -j $(JOBS) --target bdinterp_tests
+	$(BUILD)/cholmod-source/bdinterp_tests
+
+test-windows: suitesparse  ## the C++ suite cross-built with MinGW-w64 (static .exe), run under wine64
+	cmake -S . -B $(BUILD)/windows -DCMAKE_TOOLCHAIN_FILE=cmake/mingw-w64-x86_64.cmake \
+	      -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PYTHON=OFF $(SOURCE_CHOLMOD) $(GTEST_SOURCE) \
+	      -DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=ON
+	cmake --build $(BUILD)/windows -j $(JOBS) --target bdinterp_tests
+	$(WINE_ENV) $(WINE) $(BUILD)/windows/bdinterp_tests.exe
+
+test-libcxx: setup  ## the C++ suite with clang and libc++ (Apple's C++ library); macOS probe syntax
+	cmake -S . -B $(BUILD)/libcxx -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PYTHON=OFF $(GTEST_SOURCE) \
+	      -DCMAKE_C_COMPILER=$(CLANG) -DCMAKE_CXX_COMPILER=$(CLANGXX) -DCMAKE_CXX_FLAGS=-stdlib=libc++
+	cmake --build $(BUILD)/libcxx -j $(JOBS) --target bdinterp_tests
+	$(BUILD)/libcxx/bdinterp_tests
+	# macOS's probes: compiled against declarations of Apple's calls only (tests/cpp/macos_sdk), not run
+	$(CLANGXX) -std=c++17 -stdlib=libc++ -Wall -Wextra -Werror -fsyntax-only -D__APPLE__ \
+	      -Itests/cpp/macos_sdk -Icpp/include cpp/src/machine_probe_macos.cpp
+
+test-extension-split: addon  ## the wheels' extension split per platform by Blender 4.3 (trixie chroot)
+	bash scripts/extension-split.sh dist $(BUILD)/extension-split --chroot $(BDI_CHROOTS)/trixie
+
+bench-cholmod-source: suitesparse  ## speed: Debian's CHOLMOD and CHOLMOD from source without BLAS, one session
+	cmake -S . -B build-bench -DCMAKE_BUILD_TYPE=Release -DBDINTERP_BENCH=ON -DBDINTERP_PYTHON=OFF -DBDINTERP_TESTS=OFF
+	cmake -S . -B build-bench-source -DCMAKE_BUILD_TYPE=Release -DBDINTERP_BENCH=ON -DBDINTERP_PYTHON=OFF \
+	      -DBDINTERP_TESTS=OFF $(SOURCE_CHOLMOD)
+	cmake --build build-bench -j $(JOBS) --target bdinterp_bench
+	cmake --build build-bench-source -j $(JOBS) --target bdinterp_bench
+	for b in build-bench build-bench-source; do echo "== $$b"; \
+	  $$b/bdinterp_bench $(or $(BENCH_ARGS),$(BENCH_SIZES) --reps=3 --busy=) | sed -n '/^Summary/,$$p'; done
 
 # --- fuzzing and sanitizers (docs/FUZZING.md) -----------------------------------------------------
 # `make fuzz`: both libFuzzer targets of tests/fuzz (clang, ASan + UBSan), each run FUZZ_SECONDS on a
 # copy of its seed corpus; `make asan`: the C++ test suite built with ASan + UBSan and run.
 CLANGXX      ?= clang++
+CLANG        ?= clang
 FUZZ_SECONDS ?= 60
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_TARGETS  = fuzz_raw_input fuzz_disk_targets

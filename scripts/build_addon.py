@@ -139,11 +139,27 @@ def legacy_zip(out, version, so_path, licenses, development=False):
     return path
 
 
-def manifest_text(wheels):
-    """The source manifest with this build's platform and wheels."""
+def wheel_platforms(wheel):
+    """Blender's platform names of a wheel, from its platform tag."""
+    tag = os.path.basename(wheel)[:-len(".whl")].split("-")[-1]
+    found = []
+    for pattern, names in ((r"linux(_\d+_\d+)?_x86_64", ["linux-x64"]),
+                           (r"linux(_\d+_\d+)?_aarch64", ["linux-arm64"]),
+                           (r"win_amd64", ["windows-x64"]), (r"macosx_.*_arm64", ["macos-arm64"]),
+                           (r"macosx_.*_x86_64", ["macos-x64"]),
+                           (r"macosx_.*_universal2", ["macos-arm64", "macos-x64"])):
+        found += names if any(re.search(pattern + "$", t) for t in tag.split(".")) else []
+    if not found:
+        die("no Blender platform for the wheel %s" % wheel)
+    return found
+
+
+def manifest_text(wheels, platforms=(PLATFORM,)):
+    """The source manifest with this build's platforms and wheels."""
     with open(os.path.join(SRC, MANIFEST), encoding="utf-8") as f:
         text = f.read()
-    text = re.sub(r"^platforms\s*=.*$", 'platforms = ["%s"]' % PLATFORM, text, flags=re.M)
+    listed_platforms = ", ".join('"%s"' % p for p in platforms)
+    text = re.sub(r"^platforms\s*=.*$", "platforms = [%s]" % listed_platforms, text, flags=re.M)
     listed = "wheels = [\n%s]" % "".join('  "./wheels/%s",\n' % os.path.basename(w) for w in wheels)
     if re.search(r"^wheels\s*=", text, re.M):
         return re.sub(r"^wheels\s*=\s*\[[^\]]*\]", listed, text, flags=re.M)
@@ -165,14 +181,43 @@ def extension_zip(out, version, wheels, licenses):
     return path
 
 
+def extension_source(out, version, wheels, licenses):
+    """The extension's source folder for every platform the wheels are for (wheels of several
+    platforms; scripts/extension-split.sh has Blender split it into one zip per platform)."""
+    platforms = sorted({p for w in wheels for p in wheel_platforms(w)})
+    pythons = sorted({dotted(re.search(r"-cp(\d+)-", w).group(1)) for w in wheels})
+    info = {"version": version, "platform": platforms[0], "platforms": platforms,
+            "layout": "extension", "pythons": pythons, "python": ", ".join(pythons),
+            "ext_suffix": "wheels"}
+    shutil.rmtree(os.path.join(out, "bdinterp_blender"), ignore_errors=True)  # idempotent
+    staged = stage_addon(out, info, licenses)
+    os.makedirs(os.path.join(staged, "wheels"), exist_ok=True)
+    for w in wheels:
+        shutil.copy(w, os.path.join(staged, "wheels"))
+    with open(os.path.join(staged, MANIFEST), "w", encoding="utf-8") as f:
+        f.write(manifest_text(wheels, platforms))
+    return staged, platforms
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--portable", default=os.path.join(ROOT, "build", "portable"))
     ap.add_argument("--core", help="development: a bdinterp package dir with a compiled module")
     ap.add_argument("--out", default=os.path.join(ROOT, "dist"))
+    ap.add_argument("--extension-source", metavar="WHEELS",
+                    help="only the extension's source folder (OUT/bdinterp_blender) for the wheels "
+                         "in WHEELS, of any platforms")
     args = ap.parse_args()
     version = versions()
     os.makedirs(args.out, exist_ok=True)
+    if args.extension_source:
+        wheels = sorted(glob.glob(os.path.join(args.extension_source, "bdinterp-*.whl")))
+        if not wheels:
+            die("no bdinterp wheels in %s" % args.extension_source)
+        staged, platforms = extension_source(args.out, version, wheels,
+                                             os.path.join(args.portable, "licenses"))
+        print("wrote %s: %d wheels for %s" % (staged, len(wheels), ", ".join(platforms)))
+        return
     if args.core:
         so = glob.glob(os.path.join(args.core, "_core.cpython-*.so"))
         if len(so) != 1:

@@ -11,6 +11,8 @@ packages=(
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
   xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
   clang libclang-rt-14-dev                                # fuzz targets (libFuzzer) and the ASan/UBSan test build
+  g++-mingw-w64-x86-64-posix wine64 googletest            # make test-windows: MinGW-w64 cross build, Wine, GoogleTest source
+  libc++-dev libc++abi-dev                                # make test-libcxx: clang with libc++ (Apple's C++ library)
 )
 missing=()
 for p in "${packages[@]}"; do

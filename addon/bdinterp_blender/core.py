@@ -15,6 +15,7 @@ import importlib.abc
 import importlib.util
 import json
 import os
+import platform
 import re
 import sys
 import sysconfig
@@ -42,20 +43,50 @@ def _core_dir():
     return os.path.dirname(spec.origin) if spec and spec.origin else None
 
 
-def core_status(ext_suffix=None):
+# What a platform without a shipped module needs to build one (docs/PLATFORMS.md).
+_BUILD_HINTS = {
+    "windows": "Visual Studio 2019+ and vcpkg's suitesparse (CHOLMOD), eigen3 and pybind11",
+    "macos": "Xcode's command-line tools and Homebrew's suite-sparse, eigen and pybind11",
+}
+
+
+def running_platform():
+    """Blender's name of this machine's platform: 'linux-x64', 'windows-x64', 'macos-arm64', ..."""
+    system = {"win32": "windows", "darwin": "macos"}.get(sys.platform, sys.platform.rstrip("0123456789"))
+    machine = platform.machine().lower()
+    arch = {"x86_64": "x64", "amd64": "x64", "aarch64": "arm64"}.get(machine, machine)
+    return "%s-%s" % (system, arch)
+
+
+def _platform_message(info, here):
+    """The message for a platform this zip has no module for ('' when it has one)."""
+    built = info.get("platforms") or [info.get("platform")]
+    if not info.get("platform") and not info.get("platforms") or here in built:
+        return ""
+    hint = _BUILD_HINTS.get(here.split("-")[0], "a C++17 compiler, CMake, Eigen, pybind11 and CHOLMOD")
+    return ("bdinterp: this add-on carries its compiled solver for %s only, and this Blender runs on "
+            "%s. No %s build is published yet: build bdinterp from source there (docs/PLATFORMS.md; "
+            "it needs %s), or use Blender on %s." % (", ".join(built), here, here, hint, built[0]))
+
+
+def core_status(ext_suffix=None, platform_name=None):
     """Return (ok, message) about the compiled core, without importing it.
 
     Checked by file name so that a Blender whose Python cannot load the shipped module gets a
     readable message in the UI instead of an ImportError traceback at enable time.
-    ext_suffix defaults to this interpreter's (e.g. '.cpython-311-x86_64-linux-gnu.so').
+    ext_suffix defaults to this interpreter's (e.g. '.cpython-311-x86_64-linux-gnu.so'),
+    platform_name to this machine's (running_platform()).
     """
     ext_suffix = ext_suffix or sysconfig.get_config_var("EXT_SUFFIX") or ""
-    m = re.match(r"\.cpython-(\d)(\d+)-", ext_suffix)
+    m = re.match(r"\.cp(?:ython-)?(\d)(\d+)-", ext_suffix)
     running = "%s.%s" % m.groups() if m else "%d.%d" % sys.version_info[:2]
     info = build_info()
     pkg = _core_dir()
     if not info and pkg is None:
         return True, ""  # source checkout without an installed bdinterp: reported on first use
+    wrong_platform = _platform_message(info, platform_name or running_platform())
+    if wrong_platform:
+        return False, wrong_platform
     shipped = sorted(n for n in os.listdir(pkg) if n.startswith("_core")
                      and n.endswith((".so", ".pyd"))) if pkg and os.path.isdir(pkg) else []
     if any(n.endswith(ext_suffix) for n in shipped):

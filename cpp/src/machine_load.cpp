@@ -1,14 +1,10 @@
-// What the thread pool knows of the machine (parallel.h, detail): the cores this process may use,
-// how many other threads want them, and the two running means it judges by.
-#include <fcntl.h>
-#include <sched.h>
-#include <unistd.h>
-
+// What the thread pool knows of the machine (parallel.h, detail), the platform-independent part: the
+// running means it judges by, CPU quotas, busy cores from CPU-time counters. What each platform
+// reports is in machine_probe_linux.cpp, machine_probe_windows.cpp and machine_probe_macos.cpp.
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
-#include <fstream>
+#include <mutex>
 #include <sstream>
 #include <string>
 #include <thread>
@@ -16,46 +12,6 @@
 #include "bdinterp/parallel.h"
 
 namespace bdinterp::parallel {
-namespace {
-// This process's cgroup path for `controller` ("" for v2's unified hierarchy) from /proc/self/cgroup
-// ("0::/system.slice/x.service", "1:cpu,cpuacct:/docker/abc"); "/" inside a container's namespace.
-std::string cgroup_path(const std::string& controller) {
-  std::ifstream in("/proc/self/cgroup");
-  for (std::string line; std::getline(in, line);) {
-    const size_t a = line.find(':'), b = line.find(':', a + 1);
-    if (a == std::string::npos || b == std::string::npos) continue;
-    const std::string names = "," + line.substr(a + 1, b - a - 1) + ",";
-    if (controller.empty() ? names == ",," : names.find("," + controller + ",") != std::string::npos)
-      return line.substr(b + 1);
-  }
-  return "/";
-}
-
-// The cgroup's CPU quota in cores (0: none), v2 (cpu.max) or v1 (cfs_quota_us / cfs_period_us), in
-// the process's own cgroup (a systemd unit's CPUQuota, a container's --cpus).
-int cgroup_quota_cores() {
-  std::ifstream v2("/sys/fs/cgroup" + cgroup_path("") + "/cpu.max");
-  std::string line;
-  if (v2 && std::getline(v2, line)) return detail::quota_cores(line);
-  const std::string v1 = "/sys/fs/cgroup/cpu" + cgroup_path("cpu");
-  std::ifstream quota(v1 + "/cpu.cfs_quota_us"), period(v1 + "/cpu.cfs_period_us");
-  std::string q, p;
-  if (quota >> q && period >> p) return detail::quota_cores(q + " " + p);
-  return 0;
-}
-}  // namespace
-
-int usable_cores() {
-  static const int n = [] {
-    int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-    cpu_set_t set;
-    if (sched_getaffinity(0, sizeof set, &set) == 0) cores = std::min(cores, std::max(1, CPU_COUNT(&set)));
-    const int quota = cgroup_quota_cores();
-    return quota > 0 ? std::min(cores, quota) : cores;
-  }();
-  return n;
-}
-
 int detail::quota_cores(const std::string& cpu_max) {
   std::istringstream in(cpu_max);
   std::string quota;
@@ -73,17 +29,6 @@ int detail::quota_cores(const std::string& cpu_max) {
   return std::max(1, static_cast<int>(std::ceil(q / period - 1e-9)));
 }
 
-int detail::runnable_threads() {
-  static const int fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
-  char buf[128];
-  const ssize_t n = fd < 0 ? -1 : pread(fd, buf, sizeof buf - 1, 0);
-  if (n <= 0) return -1;
-  buf[n] = 0;
-  int running = -1;
-  // "0.52 0.58 0.59 3/245 12345": the fourth field is runnable/total.
-  return std::sscanf(buf, "%*s %*s %*s %d/", &running) == 1 ? running : -1;
-}
-
 bool detail::LoadMean::add(int others, int cores) {
   // Busy when the others leave fewer than two cores to this process (one for the caller, one for
   // a worker); without the count, assume busy: running serially is the cautious choice.
@@ -95,6 +40,38 @@ bool detail::LoadMean::add(int others, int cores) {
 bool detail::LateMean::add(bool late) {
   mean_ = 0.875 * mean_ + (late ? 0.125 : 0.0);
   return late && mean_ >= 0.2;
+}
+
+int detail::BusyCores::add(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+  if (!started_) {
+    started_ = true;
+    busy_ = busy, total_ = total;
+    return -1;
+  }
+  // Counters that went back (a wrapped or reset counter): start a new window.
+  if (busy < busy_ || total < total_ || busy - busy_ > total - total_) {
+    busy_ = busy, total_ = total;
+    return last_;
+  }
+  // Counters advance by the clock tick (1-16 ms): a shorter window would be mostly rounding.
+  if (total - total_ < min_total) return last_;
+  const double share = static_cast<double>(busy - busy_) / static_cast<double>(total - total_);
+  busy_ = busy, total_ = total;
+  last_ = static_cast<int>(std::lround(share * cores));
+  return last_;
+}
+
+int detail::busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+  static std::mutex m;
+  static BusyCores window;
+  const std::lock_guard<std::mutex> lock(m);
+  const int n = window.add(busy, total, cores, min_total);
+  return n < 0 ? -1 : std::max(1, n);  // the caller is running now, whatever the last window saw
+}
+
+int detail::cores_within(int limit) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  return limit > 0 ? std::min(cores, limit) : cores;
 }
 
 double detail::busy_arithmetic(int rounds) {

@@ -1,6 +1,8 @@
 #include "bdinterp/parallel.h"
 
-#include <pthread.h>
+#ifndef _WIN32
+#include <pthread.h>  // pthread_atfork
+#endif
 
 #include <algorithm>
 #include <atomic>
@@ -95,8 +97,10 @@ thread_local bool inside = false;  // running a chunk or a run(): nested runs ar
 
 // The pool does not survive fork(): a child (e.g. of Python's multiprocessing) runs serially.
 std::atomic<bool> forked{false};
+#ifndef _WIN32
 void note_fork() { forked.store(true); }
 const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
+#endif  // Windows has no fork()
 
 // The busy verdict (see kSample), updated by whichever thread starts a loop when the last sample is
 // older than kSample (one at a time).

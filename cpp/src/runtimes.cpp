@@ -1,9 +1,18 @@
 // The thread controls of the libraries CHOLMOD calls: the OpenMP runtime (Debian's libcholmod links
 // libgomp) and the BLAS of its supernodal factorisations (OpenBLAS). bdinterp needs neither itself,
 // so they are looked up at run time, in the library each call of CHOLMOD's really binds to.
+#ifdef _WIN32
+#include "detail/windows.h"
+// After windows.h: psapi.h needs its types.
+#include <psapi.h>
+#else
 #include <dlfcn.h>
+#endif
 
+#include <algorithm>
 #include <mutex>
+#include <string>
+#include <vector>
 
 #include "bdinterp/parallel.h"
 
@@ -20,6 +29,26 @@ struct Library {
   void* handle = nullptr;
   std::string file;
 };
+#ifdef _WIN32
+// Windows has no global symbol scope: the first module of the process (in load order) that exports
+// `symbol`. A CHOLMOD linked statically (make test-windows) calls no DLL for it: nothing is found.
+Library library_of(const char* symbol) {
+  std::vector<HMODULE> modules(256);
+  DWORD bytes = 0;
+  if (!EnumProcessModules(GetCurrentProcess(), modules.data(), static_cast<DWORD>(modules.size() * sizeof(HMODULE)), &bytes))
+    return {};
+  modules.resize(std::min<size_t>(modules.size(), bytes / sizeof(HMODULE)));
+  for (HMODULE m : modules) {
+    char file[MAX_PATH];
+    if (GetProcAddress(m, symbol) && GetModuleFileNameA(m, file, MAX_PATH)) return {m, file};
+  }
+  return {};
+}
+
+void* address_in(const Library& lib, const char* name) {
+  return reinterpret_cast<void*>(GetProcAddress(static_cast<HMODULE>(lib.handle), name));
+}
+#else
 Library library_of(const char* symbol) {
   void* f = dlsym(RTLD_DEFAULT, symbol);
   Dl_info info{};
@@ -28,9 +57,12 @@ Library library_of(const char* symbol) {
   return h ? Library{h, info.dli_fname} : Library{};
 }
 
+void* address_in(const Library& lib, const char* name) { return dlsym(lib.handle, name); }
+#endif
+
 template <class Fn>
 Fn symbol_in(const Library& lib, const char* name) {
-  return lib.handle ? reinterpret_cast<Fn>(dlsym(lib.handle, name)) : nullptr;
+  return lib.handle ? reinterpret_cast<Fn>(address_in(lib, name)) : nullptr;
 }
 
 // A runtime's integer setting: its setter and getter in the library that `called` binds to.

@@ -98,6 +98,20 @@ def test_core_status_names_both_pythons(addon):
     assert "Python 3.11" in message and "Python 3.12" in message  # 3.11: in both zips
 
 
+@pytest.mark.parametrize("platform_name, ext_suffix, install", [
+    ("windows-x64", ".cp311-win_amd64.pyd", "vcpkg"),
+    ("macos-arm64", ".cpython-311-darwin.so", "Homebrew"),
+])
+def test_core_status_names_a_platform_without_a_module(addon, platform_name, ext_suffix, install):
+    # The zips carry linux-x64 modules only: elsewhere the message names both platforms and what to
+    # install to build one, instead of an ImportError or a wrong "other Python" message.
+    ok, message = addon.core_status(ext_suffix=ext_suffix, platform_name=platform_name)
+    assert not ok
+    assert platform_name in message and "linux-x64" in message and install in message
+    assert "docs/PLATFORMS.md" in message
+    assert addon.core_status(platform_name="linux-x64") == (True, "")
+
+
 CHILD = """
 import addon_utils, traceback
 bpy.ops.preferences.addon_install(filepath=sys.argv[-1])

@@ -27,6 +27,8 @@ int loop_threads(long items);
 // The cores this process may use: the online CPUs, limited by its affinity mask (taskset, a farm's
 // cpuset) and by its cgroup's CPU quota (cpu.max: docker --cpus, a Kubernetes limit), which
 // std::thread::hardware_concurrency() ignores. The pool's chunks and frames()'s default workers.
+// Windows: the process's affinity mask only (a job object's CPU rate limit is not read); macOS: the
+// active CPUs (it has neither masks nor cgroups). See detail::affinity_cores.
 int usable_cores();
 
 // Whether the pool judges the machine busy (other programs leave this process fewer than two
@@ -55,9 +57,33 @@ int swap_concurrent_limit(int twice_ratio);
 // value that depends on all of them.
 double busy_arithmetic(int rounds);
 void run(int chunks, ChunkFn fn, void* context, long items);
-// Runnable threads on the machine now (the kernel's count from /proc/loadavg, the caller
-// included), or -1 if unknown.
+// Runnable threads on the machine now, the caller included, or -1 if unknown. Linux: the kernel's
+// count from /proc/loadavg. Windows and macOS have no such count: the cores busy since the previous
+// sample (at least ~20 ms before), from their CPU-time counters (BusyCores), at least 1; it cannot
+// exceed the machine's cores, so demand beyond them goes unseen there (the lateness rule, LateMean,
+// still backs off). One file per platform: machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
 int runnable_threads();
+// The processors this process may run on: Linux's affinity mask (taskset, a cpuset), Windows' process
+// affinity mask (its processor group), macOS's active CPUs (it has no masks); -1 if unknown.
+int affinity_cores();
+// hardware_concurrency() (at least 1), limited to `limit` if that is positive.
+int cores_within(int limit);
+// Busy cores over a window, from cumulative CPU-time counters summed over the machine's `cores`
+// (busy and total ticks; Windows' GetSystemTimes, macOS's host_processor_info).
+class BusyCores {
+ public:
+  // The busy cores (rounded) over the window since the last one of at least `min_total` ticks: the
+  // previous answer while the window is shorter, and when the counters went back (a new window
+  // starts); -1 at the first call.
+  int add(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
+
+ private:
+  bool started_ = false;
+  uint64_t busy_ = 0, total_ = 0;
+  int last_ = -1;
+};
+// BusyCores::add on the process's one window (thread-safe), at least 1 (the caller), -1 at first.
+int busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
 // Cores of a cgroup CPU quota, "QUOTA PERIOD" as in cpu.max ("150000 100000" -> 2, rounded up);
 // 0 for none ("max 100000", v1's "-1 100000") or an unreadable line.
 int quota_cores(const std::string& cpu_max);
