@@ -14,7 +14,8 @@ LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
 .PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
         test-blender-43 test-blender-52 test-toolchain-sid test-wheel gallery bench clean \
-        suitesparse test-cholmod-source test-windows test-libcxx test-extension-split bench-cholmod-source
+        suitesparse test-cholmod-source test-windows test-libcxx test-wheel-source test-extension-split \
+        bench-cholmod-source
 
 setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
@@ -71,7 +72,8 @@ test-wheel: addon  ## `pip wheel .` and the portable wheel install into a Python
 	bash scripts/test-wheel.sh $(BUILD)/wheel-test
 
 test: test-cpp test-python test-blender test-blender-43 test-blender-52 test-toolchain-sid test-wheel \
-      fuzz asan test-cholmod-source test-windows test-libcxx test-extension-split  ## everything CI runs
+      fuzz asan test-cholmod-source test-windows test-libcxx test-wheel-source \
+      test-extension-split  ## everything CI runs
 
 gallery: install  ## regenerate docs/gallery (README pictures and tables)
 	$(PYTHON) scripts/make_gallery.py
@@ -118,6 +120,9 @@ test-libcxx: setup  ## the C++ suite with clang and libc++ (Apple's C++ library)
 	# macOS's probes: compiled against declarations of Apple's calls only (tests/cpp/macos_sdk), not run
 	$(CLANGXX) -std=c++17 -stdlib=libc++ -Wall -Wextra -Werror -fsyntax-only -D__APPLE__ \
 	      -Itests/cpp/macos_sdk -Icpp/include cpp/src/machine_probe_macos.cpp
+
+test-wheel-source: suitesparse  ## the wheels workflow's linux-x64 build commands; its wheel's Python suite
+	bash scripts/test-wheel-source.sh $(BUILD)/wheel-source $(SUITESPARSE)
 
 test-extension-split: addon  ## the wheels' extension split per platform by Blender 4.3 (trixie chroot)
 	bash scripts/extension-split.sh dist $(BUILD)/extension-split --chroot $(BDI_CHROOTS)/trixie
