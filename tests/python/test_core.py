@@ -346,6 +346,9 @@ def _frame_in_child(V, F, T, queue):
     queue.put(float(np.abs(interp.at(0.6)).max()))
 
 
+# Python 3.12+ warns on any fork of a multi-threaded process: what this test checks is that bdinterp's
+# pool survives exactly that.
+@pytest.mark.filterwarnings("ignore:This process .* is multi-threaded:DeprecationWarning")
 def test_forked_children_can_interpolate_after_the_parent_did():
     # A parent that ran multi-threaded frames, then fork() (multiprocessing's default on Linux): the
     # child must not wait for the parent's threads, which fork() does not copy.
