@@ -147,7 +147,9 @@ FUZZ_TARGETS  = fuzz_raw_input fuzz_disk_targets
 SANITIZE      = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 FUZZ_FLAGS    = -std=c++17 -O1 -g $(SANITIZE) -Icpp/include -Itests/cpp -I/usr/include/eigen3 \
                 -I/usr/include/suitesparse
-FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(wildcard cpp/src/*.cpp))
+# the Linux build's sources: the Windows and macOS probes do not compile here
+FUZZ_SOURCES  = $(filter-out cpp/src/machine_probe_windows.cpp cpp/src/machine_probe_macos.cpp,$(wildcard cpp/src/*.cpp))
+FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(FUZZ_SOURCES))
 
 .PHONY: fuzz fuzz-build fuzz-known asan
 .SECONDARY: $(FUZZ_OBJECTS)

@@ -44,7 +44,8 @@ void merge(FrameStats& into, const FrameStats& s) {
 // The rows of `shapes` of the piece's vertices, in its local order.
 std::vector<Positions> local_positions(const std::vector<Positions>& shapes, const Piece& p) {
   std::vector<Positions> local;
-  for (const Positions& X : shapes) local.emplace_back(X(p.vertices, Eigen::placeholders::all));
+  // Both columns: Eigen 3.4 deprecates Eigen::placeholders::all, Eigen 5 has no Eigen::all.
+  for (const Positions& X : shapes) local.emplace_back(X(p.vertices, Eigen::seqN(0, 2)));
   return local;
 }
 
