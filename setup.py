@@ -57,7 +57,10 @@ class CMakeBuild(build_ext):
         subprocess.run([
             "cmake", str(ROOT), "-DCMAKE_BUILD_TYPE=Release", "-DBDINTERP_TESTS=OFF",
             "-DBDINTERP_PYTHON=ON", f"-DBDINTERP_PYTHON_OUTPUT_DIR={out_dir}",
-            f"-DPython_EXECUTABLE={sys.executable}"], cwd=build_dir, check=True)
+            f"-DPython_EXECUTABLE={sys.executable}",
+            # given each time: a build folder's cache would otherwise keep the last run's choice
+            "-DBDINTERP_SUITESPARSE_SOURCE=" + os.environ.get("BDINTERP_SUITESPARSE_SOURCE", "")],
+            cwd=build_dir, check=True)
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
         subprocess.run(["cmake", "--build", ".", "--target", "_core", "-j", jobs],
                        cwd=build_dir, check=True)
