@@ -97,6 +97,22 @@ struct FoldFill::Plan {
     }
   }
 
+  // A separated part turns by the inputs' blend (its mean rotation), about its vertices' mean.
+  void turn_separated_parts(const Eigen::VectorXd& blend, Eigen::VectorXd& th, Eigen::Ref<Positions> X) const {
+    for (size_t q = 0; q < ref.size(); ++q) {
+      if (main[q]) continue;
+      double turn = 0, total = 0;
+      for (int f : part_faces[q]) turn += area[f] * (blend[f] - th[f]), total += area[f];
+      turn /= total;
+      Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
+      for (int v : part_vertices[q]) centre += X.row(v);
+      centre /= static_cast<double>(part_vertices[q].size());
+      const Eigen::Matrix2d R = rotation(turn);
+      for (int v : part_vertices[q]) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
+      for (int f : part_faces[q]) th[f] += turn;
+    }
+  }
+
   // The harmonic extension over R's dual graph of `values` on M' (#F; R rows ignored) into R's rows.
   void extend(Eigen::VectorXd& values) const {
     const int n = static_cast<int>(harmonic->size());
@@ -314,21 +330,8 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   // The frame's rotations on each part, from the branch nearest the blend at its first face (one walk: R parts them).
   for (int r : p.ref) th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
   p.lift(ang, p.in_rest, th);
-  for (size_t q = 0; q < p.ref.size(); ++q) {
-    if (p.main[q]) continue;
-    // A separated part turns by the inputs' blend (its mean rotation), about its vertices' mean.
-    double turn = 0, total = 0;
-    for (int f : p.part_faces[q]) turn += p.area[f] * (blend[f] - th[f]), total += p.area[f];
-    turn /= total;
-    Eigen::RowVector2d centre = Eigen::RowVector2d::Zero();
-    for (int v : p.part_vertices[q]) centre += X.row(v);
-    centre /= static_cast<double>(p.part_vertices[q].size());
-    const Eigen::Matrix2d R = rotation(turn);
-    for (int v : p.part_vertices[q]) X.row(v) = centre + (X.row(v) - centre) * R.transpose();
-    for (int f : p.part_faces[q]) th[f] += turn;
-  }
-  // The in-between's rotations over R: the inputs' blend plus the harmonic extension of the
-  // frame's difference from it (0 at an input's weights, so the input's own Jacobians come back).
+  p.turn_separated_parts(blend, th, X);
+  // Rotations over R: the blend plus the harmonic extension of the frame's difference (0 at inputs).
   Eigen::VectorXd delta = th - blend;
   p.extend(delta);
   std::vector<Eigen::Matrix2d> G(region_.faces.size(), Eigen::Matrix2d::Zero());
@@ -340,12 +343,9 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   if (!p.poisson) return;
   const Positions X0 = X;
   p.solve(region_, G, X0, X);
-  // Local-global steps (docs/FOLDS.md): the least-squares fill does not reproduce targets that are
-  // not compatible, and its K exceeded the inputs' inside R (7.5 % on the body at n = 32). Each
-  // face away from the folds whose K is above its bound adds kOverRelax times the change that
-  // clamps it to its target (the targets keep the accumulated changes); the same factorisation
-  // solves again. Once no face is above its bound the solution is a fixed point: stopping there
-  // changes nothing, and at an input's weights no step changes anything.
+  // Local-global steps (docs/FOLDS.md): the least-squares fill misses incompatible targets, so each
+  // face above its K bound adds kOverRelax times its clamping change to its target and the same
+  // factorisation solves again; no face above its bound is a fixed point (inputs: no step at all).
   std::vector<Eigen::Matrix2d> target = G;
   for (int it = 0; it < p.iterations; ++it) {
     bool changed = false;
