@@ -3,15 +3,13 @@
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <numeric>
-#include <sstream>
 
 #include "bdinterp/geometry.h"
 #include "bdinterp/parallel.h"
 #include "bdinterp/rigid_motion.h"
 #include "bdinterp/triangle.h"
+#include "detail/turns.h"
 
 namespace bdinterp {
 
@@ -19,8 +17,8 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
     : mesh_(&disk), vertex_(vertex), base_(base) {
   const Faces& F = disk.faces();
   std::vector<bool> in_region(F.rows(), vertex < 0);
-  for (int f = 0; f < F.rows(); ++f)
-    if (F(f, 0) == vertex || F(f, 1) == vertex || F(f, 2) == vertex) in_region[f] = true;
+  if (vertex >= 0)
+    for (int f : disk.vertex_faces(vertex)) in_region[f] = true;
   // Unwrapping order: breadth-first over the dual graph from face 0.
   std::vector<int> slot_of(F.rows(), -1);
   slot_of[0] = 0;
@@ -35,10 +33,9 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
   weight_.resize(static_cast<Eigen::Index>(tree_.size()));
   for (size_t k = 0; k < tree_.size(); ++k) {
     const int f = tree_[k][0];
-    const Eigen::RowVector2d b1 = base_.row(F(f, 1)) - base_.row(F(f, 0));
-    const Eigen::RowVector2d b2 = base_.row(F(f, 2)) - base_.row(F(f, 0));
+    const Eigen::Matrix2d b = edge_matrix(base_, F, f);  // b1, b2
     const double s = doubled_area(base_, F, f) < 0 ? -1.0 : 1.0;
-    base_edges_.row(static_cast<Eigen::Index>(k)) << s * b1.x(), s * b1.y(), s * b2.x(), s * b2.y();
+    base_edges_.row(static_cast<Eigen::Index>(k)) << s * b(0, 0), s * b(1, 0), s * b(0, 1), s * b(1, 1);
     weight_[static_cast<Eigen::Index>(k)] = in_region[f] ? base_area(f) : 0.0;
   }
   weight_ /= weight_.sum();
@@ -60,7 +57,6 @@ Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
   // the denominator = -2i cross(b1, b2). No inverse matrices need to be stored. Each face's angle is
   // moved to within pi of its parent's; the wrapped angles differ by less than 2 pi, so one
   // correction of 2 pi suffices (no remainder). The centroid is accumulated in the same pass.
-  constexpr double kTwoPi = 2 * kPi;
   const Faces& F = mesh_->faces();
   double* raw = rot + tree_.size();  // second half of the scratch: the angles as atan2 gives them
   const long slots = static_cast<long>(tree_.size());
@@ -104,20 +100,9 @@ Eigen::VectorXd AnchorFrame::face_rotations(const Positions& X) const {
 
 Eigen::VectorXd AnchorFrame::bulk_rotations(const Positions& X) const {
   Eigen::VectorXd rot = face_rotations(X);
-  std::vector<int> order(rot.size());
-  std::iota(order.begin(), order.end(), 0);
-  std::sort(order.begin(), order.end(), [&](int a, int b) { return rot[a] < rot[b]; });
-  Eigen::VectorXd area(rot.size());
-  for (int f = 0; f < rot.size(); ++f) area[f] = base_area(f);
-  double half = 0.5 * area.sum(), acc = 0, median = rot[order.back()];
-  for (int f : order) {
-    acc += area[f];
-    if (acc >= half) {
-      median = rot[f];
-      break;
-    }
-  }
-  rot.array() -= 2 * kPi * std::round(median / (2 * kPi));
+  std::vector<std::pair<double, double>> angle_area(rot.size());
+  for (int f = 0; f < rot.size(); ++f) angle_area[f] = {rot[f], base_area(f)};
+  rot.array() -= detail::median_turns(std::move(angle_area));
   return rot;
 }
 

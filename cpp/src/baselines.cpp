@@ -33,7 +33,6 @@ struct ArapInterpolator::PieceData {
   explicit PieceData(Piece p) : piece(std::move(p)) {}
 };
 
-
 ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& target, const Faces& F)
     : source_(source), target_(target) {
   const Mesh mesh(F, static_cast<int>(source.rows()));
@@ -51,13 +50,9 @@ ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& tar
       X1.row(k) = target.row(d->piece.vertices[k]);
     }
     const Eigen::VectorXd rot = AnchorFrame(m, X0, -1).bulk_rotations(X1);
-    std::vector<std::vector<std::pair<int, double>>> cols(m.num_vertices());
+    std::vector<SymmetricEntry> laplacian;  // cotan, vertex 0 removed (pinned; the centroid is set after)
     for (int f = 0; f < PF.rows(); ++f) {
-      Eigen::Matrix2d D0, D1;
-      D0.col(0) = (X0.row(PF(f, 1)) - X0.row(PF(f, 0))).transpose();
-      D0.col(1) = (X0.row(PF(f, 2)) - X0.row(PF(f, 0))).transpose();
-      D1.col(0) = (X1.row(PF(f, 1)) - X1.row(PF(f, 0))).transpose();
-      D1.col(1) = (X1.row(PF(f, 2)) - X1.row(PF(f, 0))).transpose();
+      const Eigen::Matrix2d D0 = edge_matrix(X0, PF, f), D1 = edge_matrix(X1, PF, f);
       const Eigen::Matrix2d G = D0.inverse();
       Eigen::Matrix<double, 3, 2> g;
       g.row(1) = G.row(0);
@@ -70,27 +65,10 @@ ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& tar
       d->stretch.push_back(Eigen::Rotation2Dd(-th).toRotationMatrix() * (D1 * G));
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
-          cols[PF(f, j)].push_back({PF(f, i), d->area.back() * g.row(i).dot(g.row(j))});
+          if (PF(f, i) > 0 && PF(f, j) > 0)
+            laplacian.push_back({PF(f, i) - 1, PF(f, j) - 1, d->area.back() * g.row(i).dot(g.row(j))});
     }
-    // Assemble the lower triangle with vertex 0 removed (it is pinned; the centroid is set after).
-    const int n = m.num_vertices() - 1;
-    std::vector<int> col_ptr(n + 1, 0), rows;
-    std::vector<double> vals;
-    for (int j = 1; j <= n; ++j) {
-      std::sort(cols[j].begin(), cols[j].end());
-      for (size_t k = 0; k < cols[j].size();) {
-        const int i = cols[j][k].first;
-        double v = 0;
-        for (; k < cols[j].size() && cols[j][k].first == i; ++k) v += cols[j][k].second;
-        if (i < j) continue;
-        rows.push_back(i - 1);
-        vals.push_back(v);
-      }
-      col_ptr[j] = static_cast<int>(rows.size());
-    }
-    d->chol = std::make_unique<SparseCholesky>(n, col_ptr, rows);
-    std::copy(vals.begin(), vals.end(), d->chol->values());
-    d->chol->factorize();
+    d->chol = factorise(m.num_vertices() - 1, laplacian);
     d->c0 = area_centroid(X0, PF);
     d->c1 = area_centroid(X1, PF);
     pieces_.push_back(std::move(d));

@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numeric>
 #include <sstream>
 
 #include "bdinterp/geometry.h"
@@ -43,33 +42,6 @@ std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& 
   return seed;
 }
 
-// v's faces outside R form more than one fan (joined across the edges at v).
-bool pinched(const Mesh& mesh, const std::vector<int>& faces_of_v, const std::vector<char>& in_region, int v) {
-  std::vector<int> rest;
-  for (int f : faces_of_v)
-    if (!in_region[f]) rest.push_back(f);
-  if (rest.size() < 2) return false;
-  std::vector<int> parent(rest.size());
-  std::iota(parent.begin(), parent.end(), 0);
-  auto find = [&](int a) {
-    while (parent[a] != a) a = parent[a] = parent[parent[a]];
-    return a;
-  };
-  const Faces& F = mesh.faces();
-  for (size_t a = 0; a < rest.size(); ++a) {
-    const int f = rest[a];
-    const int c = F(f, 0) == v ? 0 : (F(f, 1) == v ? 1 : 2);
-    for (int k = 1; k <= 2; ++k) {  // the two edges of f at v are opposite its other corners
-      const int g = mesh.opposite_face(mesh.face_edges()(f, (c + k) % 3), f);
-      for (size_t b = 0; b < rest.size(); ++b)
-        if (rest[b] == g) parent[find(static_cast<int>(a))] = find(static_cast<int>(b));
-    }
-  }
-  int roots = 0;
-  for (size_t a = 0; a < rest.size(); ++a) roots += find(static_cast<int>(a)) == static_cast<int>(a);
-  return roots > 1;
-}
-
 Faces rest_faces(const Faces& F, const std::vector<char>& in_region) {
   Faces rest(F.rows() - std::count(in_region.begin(), in_region.end(), 1), 3);
   for (int f = 0, r = 0; f < F.rows(); ++f)
@@ -79,8 +51,7 @@ Faces rest_faces(const Faces& F, const std::vector<char>& in_region) {
 
 // Adds to R the faces of the vertices of every boundary loop of M' whose total turning in some input
 // differs from the base's (a loop the input winds around twice, or not at all). True if any.
-bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int base,
-                   const std::vector<std::vector<int>>& vf, std::vector<char>& in_region) {
+bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int base, std::vector<char>& in_region) {
   const Faces faces = rest_faces(mesh.faces(), in_region);
   if (faces.rows() == 0) return false;  // nothing left: check_pieces_remain names the piece
   const Mesh rest(faces, mesh.num_vertices());
@@ -101,7 +72,7 @@ bool grow_at_loops(const Mesh& mesh, const std::vector<Positions>& shapes, int b
     for (size_t i = 0; i < shapes.size(); ++i) same = same && std::abs(turning(i) - turning(base)) < kPi;
     if (same) continue;
     for (int v : loop)
-      for (int f : vf[v]) in_region[f] = 1;
+      for (int f : mesh.vertex_faces(v)) in_region[f] = 1;
     grown = true;
   }
   return grown;
@@ -125,27 +96,26 @@ void check_pieces_remain(const Mesh& mesh, const std::vector<char>& in_region) {
 }  // namespace
 
 void close_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, std::vector<char>& in_region) {
-  const std::vector<std::vector<int>> vf = detail::vertex_faces(mesh.faces(), mesh.num_vertices());
+  const auto outside = [&](int f) { return !in_region[f]; };
   for (bool changed = std::count(in_region.begin(), in_region.end(), 1) > 0; changed;) {
     changed = false;
     for (int v = 0; v < mesh.num_vertices(); ++v) {
-      if (!pinched(mesh, vf[v], in_region, v)) continue;
-      for (int f : vf[v]) in_region[f] = 1;
+      if (mesh.one_fan_at(v, outside)) continue;  // v's faces outside R are not pinched into two fans
+      for (int f : mesh.vertex_faces(v)) in_region[f] = 1;
       changed = true;
     }
-    if (!changed) changed = grow_at_loops(mesh, shapes, base, vf, in_region);
+    if (!changed) changed = grow_at_loops(mesh, shapes, base, in_region);
   }
 }
 
 FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, int base, const FoldOptions& options) {
   const Faces& F = mesh.faces();
-  const std::vector<std::vector<int>> vf = detail::vertex_faces(F, mesh.num_vertices());
   const std::vector<char> seed = seed_vertices(mesh, shapes, base, options);
   FoldRegion r;
   r.in_region.assign(F.rows(), 0);
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (seed[v])
-      for (int f : vf[v]) r.in_region[f] = 1;
+      for (int f : mesh.vertex_faces(v)) r.in_region[f] = 1;
   const long seeded = std::count(r.in_region.begin(), r.in_region.end(), 1);
   close_region(mesh, shapes, base, r.in_region);
   check_pieces_remain(mesh, r.in_region);
@@ -153,8 +123,8 @@ FoldRegion fold_region(const Mesh& mesh, const std::vector<Positions>& shapes, i
     if (r.in_region[f]) r.faces.push_back(f);
   r.grown = static_cast<int>(r.faces.size() - seeded);
   for (int v = 0; v < mesh.num_vertices(); ++v) {
-    bool all = !vf[v].empty();
-    for (int f : vf[v]) all = all && r.in_region[f];
+    bool all = mesh.vertex_faces(v).size() > 0;
+    for (int f : mesh.vertex_faces(v)) all = all && r.in_region[f];
     if (all) r.free_vertices.push_back(v);
   }
   r.rest = rest_faces(F, r.in_region);

@@ -3,7 +3,6 @@
 // solve for R's free vertices and those parts' translations, local-global steps that clamp K.
 // Reasoning: docs/FOLDS.md.
 #include <Eigen/LU>
-#include <Eigen/SparseCore>
 #include <algorithm>
 #include <array>
 #include <deque>
@@ -15,6 +14,7 @@
 #include "bdinterp/geometry.h"
 #include "bdinterp/sparse_cholesky.h"
 #include "detail/folds.h"
+#include "detail/turns.h"
 
 namespace bdinterp {
 namespace {
@@ -29,20 +29,6 @@ constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 // largest K excess away from the folds after 10 / 20 steps: 2.1 % / 0.73 % with 1, 0.62 % / 0.11 %
 // with 2, 0.15 % / 0.11 % with 3 (docs/FOLDS.md).
 constexpr double kOverRelax = 2;
-
-// The symmetric positive definite matrix of the triplets (any triangle), factorised.
-std::unique_ptr<SparseCholesky> factorised(int n, const std::vector<Eigen::Triplet<double>>& entries) {
-  Eigen::SparseMatrix<double> A(n, n);
-  A.setFromTriplets(entries.begin(), entries.end());
-  Eigen::SparseMatrix<double> lower = A.triangularView<Eigen::Lower>();
-  lower.makeCompressed();
-  const std::vector<int> col(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
-  const std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
-  auto chol = std::make_unique<SparseCholesky>(n, col, rows);
-  std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol->values());
-  chol->factorize();
-  return chol;
-}
 
 }  // namespace
 
@@ -191,17 +177,8 @@ void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
   for (size_t q = 0; q < ref.size(); ++q) {
     if (!main[q]) continue;
     std::vector<std::pair<double, double>> rot;  // (angle, area) of the part's faces
-    double total = 0;
-    for (int f = 0; f < mesh.num_faces(); ++f)
-      if (part[f] == static_cast<int>(q)) rot.emplace_back(theta[f], area[f]), total += area[f];
-    std::sort(rot.begin(), rot.end());
-    double acc = 0, median = rot.back().first;
-    for (const auto& [a, w] : rot)
-      if ((acc += w) >= 0.5 * total) {
-        median = a;
-        break;
-      }
-    const double shift = 2 * kPi * std::round(median / (2 * kPi));
+    for (int f : part_faces[q]) rot.emplace_back(theta[f], area[f]);
+    const double shift = detail::median_turns(std::move(rot));
     const int piece = mesh.piece_of_face(ref[q]);
     for (int f = 0; f < mesh.num_faces(); ++f)
       if (mesh.piece_of_face(f) == piece) theta[f] -= shift;
@@ -236,16 +213,16 @@ void FoldFill::Plan::plan_systems(const FoldRegion& region) {
   const int nf = mesh.num_faces();
   r_index.assign(nf, -1);
   for (size_t k = 0; k < region.faces.size(); ++k) r_index[region.faces[k]] = static_cast<int>(k);
-  std::vector<Eigen::Triplet<double>> h;
+  std::vector<SymmetricEntry> h;
   for (int f : region.faces) {
     for (int c = 0; c < 3; ++c) {
       const int g = mesh.opposite_face(mesh.face_edges()(f, c), f);
       if (g < 0) continue;
-      h.emplace_back(r_index[f], r_index[f], 1.0);
-      if (r_index[g] >= 0) h.emplace_back(r_index[f], r_index[g], -1.0);
+      h.push_back({r_index[f], r_index[f], 1.0});
+      if (r_index[g] >= 0) h.push_back({r_index[f], r_index[g], -1.0});
     }
   }
-  harmonic = factorised(static_cast<int>(region.faces.size()), h);
+  harmonic = factorise(static_cast<int>(region.faces.size()), h);
   var.assign(mesh.num_vertices(), -1);
   for (int v : region.free_vertices) var[v] = num_free++;
   part_var.assign(ref.size(), -1);
@@ -254,16 +231,16 @@ void FoldFill::Plan::plan_systems(const FoldRegion& region) {
     if (!main[p]) part_var[p] = n++;
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (part_of_vertex[v] >= 0) var[v] = part_var[part_of_vertex[v]];
-  std::vector<Eigen::Triplet<double>> L;
+  std::vector<SymmetricEntry> L;
   for (int f : region.faces) {
     const auto B = gradients(f);
     for (int a = 0; a < 3; ++a)
       for (int b = 0; b < 3; ++b) {
         const int va = var[mesh.faces()(f, a)], vb = var[mesh.faces()(f, b)];
-        if (va >= 0 && vb >= 0) L.emplace_back(va, vb, weight[f] * B[a].dot(B[b]));
+        if (va >= 0 && vb >= 0) L.push_back({va, vb, weight[f] * B[a].dot(B[b])});
       }
   }
-  if (n > 0) poisson = factorised(n, L);
+  if (n > 0) poisson = factorise(n, L);
 }
 
 // Per R face: the largest K of the inputs (at least 1, the base's), or 0 for the faces within two
@@ -294,7 +271,7 @@ FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int b
   Plan& p = *plan_;
   const Faces& F = mesh.faces();
   for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::Matrix2d E = detail::edge_matrix(shapes[base], F, f);
+    const Eigen::Matrix2d E = edge_matrix(shapes[base], F, f);
     p.base_inverse.push_back(E.inverse());
     p.area.push_back(0.5 * std::abs(E.determinant()));
   }

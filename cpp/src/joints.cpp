@@ -7,18 +7,15 @@
 #include <numeric>
 #include <queue>
 
+#include "bdinterp/geometry.h"
 #include "bdinterp/rigid_motion.h"
 #include "detail/turns.h"
 
 namespace bdinterp {
 namespace {
-using detail::kTwoPi;
-
 // A point counts as inside a triangle when its least barycentric weight is at least this (so
 // vertices on a shared outline do not make an overlap).
 constexpr double kInside = 1e-9;
-
-double wrap(double a) { return a - kTwoPi * std::round(a / kTwoPi); }  // into [-pi, pi]
 }  // namespace
 
 namespace detail {
@@ -124,10 +121,7 @@ bool pin_guess(const JointPiece& parent, const JointPiece& child, int base, Eige
 void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
               Eigen::Vector2d& c) {
   const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
-  Eigen::Matrix2d from, to;
-  from << (B.row(b) - B.row(a)).transpose(), (B.row(d) - B.row(a)).transpose();
-  to << (X.row(b) - X.row(a)).transpose(), (X.row(d) - X.row(a)).transpose();
-  J = to * from.inverse();
+  J = edge_matrix(X, a, b, d) * edge_matrix(B, a, b, d).inverse();
   c = X.row(a).transpose() - J * B.row(a).transpose();
 }
 
@@ -274,7 +268,8 @@ void Joints::add_joint(const std::vector<Positions>& shapes, int base, double si
   for (size_t i = 0; i < shapes.size(); ++i) {
     j.parent_angle.push_back(P[i].angle);
     // The keys' turn of the child against its parent, the short way (a joint does not wind up).
-    j.relative.push_back(C[b].angle - P[b].angle + wrap((C[i].angle - C[b].angle) - (P[i].angle - P[b].angle)));
+    const double turn = (C[i].angle - C[b].angle) - (P[i].angle - P[b].angle);
+    j.relative.push_back(C[b].angle - P[b].angle + detail::wrap_angle(turn));
     j.offset.push_back(j.in_child.at(shapes[i]) - j.in_parent.at(shapes[i]));
   }
   joints_.push_back(std::move(j));

@@ -7,6 +7,8 @@
 #include <numeric>
 #include <sstream>
 
+#include "bdinterp/sparse_cholesky.h"
+
 namespace bdinterp {
 namespace {
 
@@ -52,6 +54,7 @@ void check_face_indices(const Faces& F, int num_vertices) {
 Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F) {
   check_face_indices(F, num_vertices);
   build_edges();
+  build_vertex_faces();
   const std::vector<int> next_on_boundary = chain_boundary();
   find_pieces();
   check_fans();
@@ -154,39 +157,24 @@ void Mesh::find_pieces() {
   }
 }
 
+void Mesh::build_vertex_faces() {
+  vf_start_.assign(num_vertices_ + 1, 0);
+  for (int f = 0; f < F_.rows(); ++f)
+    for (int c = 0; c < 3; ++c) ++vf_start_[F_(f, c) + 1];
+  std::partial_sum(vf_start_.begin(), vf_start_.end(), vf_start_.begin());
+  vf_.resize(3 * static_cast<size_t>(F_.rows()));
+  std::vector<int> fill(vf_start_.begin(), vf_start_.end() - 1);
+  for (int f = 0; f < F_.rows(); ++f)
+    for (int c = 0; c < 3; ++c) vf_[fill[F_(f, c)]++] = f;
+}
+
 void Mesh::check_fans() const {
-  // The faces around every vertex must form a single fan: count faces per vertex and compare with
-  // the length of the fan walked from one of them (both ways round at a boundary vertex).
-  const Faces& F = F_;
-  std::vector<int> valence(num_vertices_, 0), first_face(num_vertices_, -1);
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      ++valence[F(f, c)];
-      if (first_face[F(f, c)] < 0) first_face[F(f, c)] = f;
-    }
-  }
-  // From face f with corner v, the next face round v across the edge opposite corner c + step.
-  auto next = [&](int f, int v, int step) {
-    int c = 0;
-    while (F(f, c) != v) ++c;
-    return opposite_face(FE_(f, (c + step) % 3), f);
-  };
   for (int v = 0; v < num_vertices_; ++v) {
-    const int start = first_face[v];
-    if (start < 0) continue;
-    int f = start, count = 0;
-    do {  // counter-clockwise: across edge (v, F(f, c+1))
-      ++count;
-      f = next(f, v, 2);
-    } while (f >= 0 && f != start && count <= valence[v]);
-    if (boundary_vertex_[v]) {  // clockwise from the start as well, to count the whole open fan
-      for (f = next(start, v, 1); f >= 0 && f != start; f = next(f, v, 1)) ++count;
-    }
-    if (count != valence[v]) {
-      std::ostringstream s;
-      s << "vertex " << v << " is non-manifold: its " << valence[v] << " faces do not form a single fan";
-      throw InvalidInput(s.str());
-    }
+    if (one_fan_at(v, [](int) { return true; })) continue;
+    std::ostringstream s;
+    s << "vertex " << v << " is non-manifold: its " << vertex_faces(v).size()
+      << " faces do not form a single fan";
+    throw InvalidInput(s.str());
   }
 }
 
@@ -296,27 +284,19 @@ InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, st
       p.vertex.push_back(v);
     }
   }
-  const int n = p.size();
   const Edges& E = disk.edges();
-  std::vector<std::vector<std::pair<int, int>>> below(n);  // per column: (row, edge)
+  std::vector<std::pair<int, int>> ends(E.rows()), inside;  // per edge: its ends' interior numbers
   for (int e = 0; e < E.rows(); ++e) {
-    const int a = p.index[E(e, 0)], b = p.index[E(e, 1)];
-    if (a >= 0 && b >= 0) below[std::min(a, b)].push_back({std::max(a, b), e});
+    ends[e] = {p.index[E(e, 0)], p.index[E(e, 1)]};
+    if (ends[e].first >= 0 && ends[e].second >= 0) inside.push_back(ends[e]);
   }
-  col_ptr.assign(n + 1, 0);
-  rows.clear();
-  p.diag_pos.resize(n);
+  SymmetricPattern s(p.size(), std::move(inside));
+  p.diag_pos.assign(s.col_ptr.begin(), s.col_ptr.end() - 1);  // the diagonal comes first in its column
   p.edge_pos.assign(E.rows(), -1);
-  for (int j = 0; j < n; ++j) {
-    std::sort(below[j].begin(), below[j].end());
-    p.diag_pos[j] = static_cast<int>(rows.size());
-    rows.push_back(j);
-    for (const auto& [i, e] : below[j]) {
-      p.edge_pos[e] = static_cast<int>(rows.size());
-      rows.push_back(i);
-    }
-    col_ptr[j + 1] = static_cast<int>(rows.size());
-  }
+  for (int e = 0; e < E.rows(); ++e)
+    if (ends[e].first >= 0 && ends[e].second >= 0) p.edge_pos[e] = s.position(ends[e].first, ends[e].second);
+  col_ptr = std::move(s.col_ptr);
+  rows = std::move(s.rows);
   return p;
 }
 

@@ -272,4 +272,58 @@ void SparseCholesky::solve(const double* b, double* x, int ncols) {
   std::memcpy(x, m.X->x, sizeof(double) * n * ncols);
 }
 
+namespace {
+void check_entry(const char* who, int n, int i, int j) {
+  if (i < 0 || j < 0 || i >= n || j >= n) {
+    throw InvalidInput(std::string(who) + ": entry (" + std::to_string(i) + ", " + std::to_string(j) +
+                       ") outside a " + std::to_string(n) + "-by-" + std::to_string(n) + " matrix");
+  }
+}
+}  // namespace
+
+SymmetricPattern::SymmetricPattern(int n, std::vector<std::pair<int, int>> pairs) {
+  if (n < 0) throw InvalidInput("SymmetricPattern: negative size " + std::to_string(n));
+  for (auto& [i, j] : pairs) {
+    check_entry("SymmetricPattern", n, i, j);
+    if (i < j) std::swap(i, j);  // (row, col) below the diagonal
+  }
+  // By column, then row; pairs on the diagonal are skipped below (each column has its diagonal).
+  std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) {
+    return a.second != b.second ? a.second < b.second : a.first < b.first;
+  });
+  pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
+  col_ptr.assign(n + 1, 0);
+  rows.reserve(static_cast<size_t>(n) + pairs.size());
+  size_t k = 0;
+  for (int j = 0; j < n; ++j) {
+    rows.push_back(j);
+    for (; k < pairs.size() && pairs[k].second == j; ++k)
+      if (pairs[k].first != j) rows.push_back(pairs[k].first);
+    col_ptr[j + 1] = static_cast<int>(rows.size());
+  }
+}
+
+int SymmetricPattern::position(int i, int j) const {
+  if (i < j) std::swap(i, j);
+  const auto first = rows.begin() + col_ptr[j], last = rows.begin() + col_ptr[j + 1];
+  const auto it = std::lower_bound(first, last, i);
+  return it != last && *it == i ? static_cast<int>(it - rows.begin()) : -1;
+}
+
+std::unique_ptr<SparseCholesky> factorise(int n, const std::vector<SymmetricEntry>& entries) {
+  if (n < 1) throw InvalidInput("factorise: matrix size " + std::to_string(n) + " (need at least 1)");
+  std::vector<std::pair<int, int>> lower;
+  for (const SymmetricEntry& t : entries) {
+    check_entry("factorise", n, t.row, t.col);
+    if (t.row > t.col) lower.emplace_back(t.row, t.col);
+  }
+  const SymmetricPattern pattern(n, std::move(lower));
+  auto chol = std::make_unique<SparseCholesky>(n, pattern.col_ptr, pattern.rows);
+  double* values = chol->values();
+  for (const SymmetricEntry& t : entries)
+    if (t.row >= t.col) values[pattern.position(t.row, t.col)] += t.value;
+  chol->factorize();
+  return chol;
+}
+
 }  // namespace bdinterp

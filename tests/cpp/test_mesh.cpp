@@ -1,5 +1,8 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <vector>
+
 #include "bdinterp/mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
@@ -75,6 +78,35 @@ TEST(Mesh, IsolatedVerticesBelongToNoPiece) {
   const Mesh mesh(faces({{0, 1, 2}}), 4);
   EXPECT_TRUE(mesh.is_isolated_vertex(3));
   EXPECT_EQ(mesh.piece_of_vertex(3), -1);
+}
+
+TEST(Mesh, VertexFacesListEachFaceAtItsThreeVertices) {
+  // A hexagon fan round vertex 0 (faces 0..5) and an isolated vertex 7.
+  const Mesh mesh(faces({{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}, {0, 6, 1}}), 8);
+  const auto list = [&](int v) {
+    const Mesh::FaceRange r = mesh.vertex_faces(v);
+    return std::vector<int>(r.begin(), r.end());
+  };
+  EXPECT_EQ(list(0), (std::vector<int>{0, 1, 2, 3, 4, 5}));
+  EXPECT_EQ(list(1), (std::vector<int>{0, 5}));
+  EXPECT_EQ(list(4), (std::vector<int>{2, 3}));
+  EXPECT_EQ(mesh.vertex_faces(7).size(), 0);
+  EXPECT_EQ(mesh.corner_of_vertex(3, 5), 2);
+}
+
+TEST(Mesh, OneFanAtFindsTheVerticesThatRemovedFacesPinch) {
+  const Mesh mesh(faces({{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}, {0, 6, 1}}), 7);
+  const auto without = [](std::vector<int> gone) {
+    return [gone](int f) { return std::find(gone.begin(), gone.end(), f) == gone.end(); };
+  };
+  EXPECT_TRUE(mesh.one_fan_at(0, without({})));          // the closed fan
+  EXPECT_TRUE(mesh.one_fan_at(0, without({5})));         // an open fan: 0..4
+  EXPECT_TRUE(mesh.one_fan_at(0, without({1, 2})));      // 3, 4, 5, 0 across the edge (0, 1)
+  EXPECT_FALSE(mesh.one_fan_at(0, without({1, 4})));     // {2, 3} and {5, 0}
+  EXPECT_FALSE(mesh.one_fan_at(0, without({0, 2, 4})));  // three single faces
+  EXPECT_TRUE(mesh.one_fan_at(0, without({0, 1, 2, 3, 4})));  // one face left
+  EXPECT_TRUE(mesh.one_fan_at(1, without({})));          // a boundary vertex: faces 5, 0
+  EXPECT_TRUE(mesh.one_fan_at(1, without({0})));
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// Signed areas (of faces and of boundary loops) and area-weighted centroids of faces, the one place
-// the library computes them.
+// Edge matrices and signed areas of faces, signed areas of boundary loops and area-weighted centroids
+// of faces, the one place the library computes them.
 #pragma once
 
 #include <Eigen/Core>
@@ -14,6 +14,22 @@ template <typename P, typename Fc>
 inline double doubled_area(const P& X, const Fc& F, int f) {
   const int a = F(f, 0), b = F(f, 1), c = F(f, 2);
   return (X(b, 0) - X(a, 0)) * (X(c, 1) - X(a, 1)) - (X(b, 1) - X(a, 1)) * (X(c, 0) - X(a, 0));
+}
+
+// The edge matrix [X[b] - X[a], X[c] - X[a]] (columns) of the triangle (a, b, c) of X (a Positions
+// or an Eigen::Ref to one); its determinant is the doubled signed area.
+template <typename P>
+inline Eigen::Matrix2d edge_matrix(const P& X, int a, int b, int c) {
+  Eigen::Matrix2d E;
+  E.col(0) = (X.row(b) - X.row(a)).transpose();
+  E.col(1) = (X.row(c) - X.row(a)).transpose();
+  return E;
+}
+
+// The edge matrix of face f of X (F.row(f) = (a, b, c)).
+template <typename P, typename Fc>
+inline Eigen::Matrix2d edge_matrix(const P& X, const Fc& F, int f) {
+  return edge_matrix(X, F(f, 0), F(f, 1), F(f, 2));
 }
 
 // Twice the total signed area of the faces F of X (positive when they are counter-clockwise).

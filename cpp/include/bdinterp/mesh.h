@@ -42,6 +42,20 @@ class Mesh {
   // A face farthest (in dual steps) from the boundary (the last one a walk from the boundary faces
   // reaches): short dual paths to every face of its piece. Face 0 on a closed mesh.
   int central_face() const;
+  // The faces at vertex v, ascending (none for an isolated vertex): a range of face indices.
+  struct FaceRange {
+    const int *first, *last;
+    const int* begin() const { return first; }
+    const int* end() const { return last; }
+    int size() const { return static_cast<int>(last - first); }
+  };
+  FaceRange vertex_faces(int v) const { return {vf_.data() + vf_start_[v], vf_.data() + vf_start_[v + 1]}; }
+  // The corner of face f at its vertex v (v must be a vertex of f).
+  int corner_of_vertex(int f, int v) const { return F_(f, 0) == v ? 0 : (F_(f, 1) == v ? 1 : 2); }
+  // Whether the faces at v with keep(f) form at most one fan (are joined across the edges at v):
+  // true for every vertex of a Mesh with all faces kept; false where removing faces pinches v.
+  template <typename Keep>
+  bool one_fan_at(int v, Keep keep) const;
   bool is_boundary_vertex(int v) const { return boundary_vertex_[v]; }
   bool is_isolated_vertex(int v) const { return vertex_piece_[v] < 0; }
 
@@ -56,6 +70,7 @@ class Mesh {
 
  private:
   void build_edges();
+  void build_vertex_faces();
   std::vector<int> chain_boundary();  // next vertex along the boundary, -1 inside
   void find_pieces();
   void check_fans() const;
@@ -66,12 +81,31 @@ class Mesh {
   Edges E_;
   Faces FE_;
   Edges EF_;
+  std::vector<int> vf_start_, vf_;  // vertex_faces(v): vf_[vf_start_[v] .. vf_start_[v + 1])
   std::vector<bool> boundary_vertex_;
   int num_pieces_ = 0;
   std::vector<int> face_piece_, vertex_piece_;
   std::vector<std::vector<int>> loops_;
   std::vector<int> loop_piece_;
 };
+
+template <typename Keep>
+bool Mesh::one_fan_at(int v, Keep keep) const {
+  int start = -1, kept = 0;
+  for (int f : vertex_faces(v))
+    if (keep(f)) start = start < 0 ? f : start, ++kept;
+  if (kept < 2) return true;
+  // The kept face after f round v: across the edge opposite corner c + step (2: counter-clockwise).
+  auto next = [&](int f, int step) {
+    const int g = opposite_face(FE_(f, (corner_of_vertex(f, v) + step) % 3), f);
+    return g >= 0 && keep(g) ? g : -1;
+  };
+  int count = 1, f = next(start, 2);
+  for (; f >= 0 && f != start && count <= kept; f = next(f, 2)) ++count;
+  if (f != start)  // an open fan: count the faces clockwise from the start as well
+    for (f = next(start, 1); f >= 0 && f != start && count <= kept; f = next(f, 1)) ++count;
+  return count == kept;
+}
 
 // A connected piece extracted as a mesh of its own. `vertices` maps local to global vertex indices,
 // `faces` local to global face indices.

@@ -5,6 +5,7 @@
 #pragma once
 
 #include <memory>
+#include <utility>
 #include <vector>
 
 #include "bdinterp/types.h"
@@ -95,5 +96,31 @@ class SparseCholesky {
   std::shared_ptr<const CholeskyAnalysis> analysis_;
   std::unique_ptr<Impl> impl_;
 };
+
+// The lower triangle of the sparsity pattern of a symmetric n-by-n matrix in compressed columns, as
+// CholeskyAnalysis takes it: every diagonal entry and the given off-diagonal pairs, rows sorted
+// within each column, diagonal first.
+struct SymmetricPattern {
+  std::vector<int> col_ptr;  // n + 1
+  std::vector<int> rows;     // one per entry
+  // pairs: (i, j) in [0, n) in either order; repeats and pairs on the diagonal add nothing. Throws
+  // InvalidInput for n < 0 or an index outside [0, n).
+  SymmetricPattern(int n, std::vector<std::pair<int, int>> pairs);
+  int size() const { return static_cast<int>(col_ptr.size()) - 1; }
+  // The position in `rows` of entry (i, j), either order; -1 if the pattern lacks it.
+  int position(int i, int j) const;
+};
+
+// One entry (row, col, value) of a symmetric matrix given by both triangles.
+struct SymmetricEntry {
+  int row, col;
+  double value;
+};
+
+// The symmetric positive definite n-by-n matrix of `entries`, factorised over an analysis of its
+// own: the entries on and below the diagonal (row >= col) are summed in their order, those above are
+// skipped (their mirror images carry them). Throws InvalidInput for n < 1 or an index outside
+// [0, n), SolverError if the matrix is not positive definite.
+std::unique_ptr<SparseCholesky> factorise(int n, const std::vector<SymmetricEntry>& entries);
 
 }  // namespace bdinterp

@@ -6,22 +6,23 @@
 #include <algorithm>
 #include <cmath>
 
+#include "bdinterp/types.h"
+
 namespace bdinterp {
 
 // atan(y / x) for y, x > 0, within ~2 ulps: Cephes' atan (range reduction to |z| <= 0.66, then a
 // rational approximation). Several times faster than std::atan2, which rounds correctly and is the
 // hot spot of every Newton step otherwise.
 inline double atan_positive(double y, double x) {
-  constexpr double kPio2 = 1.57079632679489661923, kPio4 = 0.78539816339744830962;
   constexpr double kMoreBits = 6.123233995736765886130e-17, kT3p8 = 2.41421356237309504880;
   double base, z, extra;
   if (y > kT3p8 * x) {
-    base = kPio2;
+    base = kHalfPi;
     z = -x / y;
     extra = kMoreBits;
   } else {
     const bool mid = y > 0.66 * x;
-    base = mid ? kPio4 : 0.0;
+    base = mid ? 0.5 * kHalfPi : 0.0;  // pi / 4, exact
     extra = mid ? 0.5 * kMoreBits : 0.0;
     z = mid ? (y - x) / (y + x) : y / x;
   }
@@ -53,7 +54,6 @@ inline double excesses(const double l[3], double x[3], double* perimeter) {
 
 // atan2(y, x) for any signs, from atan_positive (same accuracy, same speed).
 inline double fast_atan2(double y, double x) {
-  constexpr double kPi = 3.14159265358979323846, kPio2 = 1.57079632679489661923;
   const double ay = std::abs(y);
   double a;
   if (x > 0) {
@@ -61,7 +61,7 @@ inline double fast_atan2(double y, double x) {
   } else if (x < 0) {
     a = kPi - atan_positive(ay, -x);
   } else {
-    a = ay > 0 ? kPio2 : 0.0;
+    a = ay > 0 ? kHalfPi : 0.0;
   }
   return std::signbit(y) ? -a : a;
 }
@@ -100,7 +100,6 @@ inline bool triangle_cotangents(const double l2[3], double cot[3]) {
 // Angles by the half-angle formula (accurate for needles and caps alike) and, if `cot` is given,
 // the cotangents, from the squared lengths l2; (pi, 0, 0) and true for a broken triple.
 inline bool triangle_angles(const double l2[3], double angle[3], double* cot = nullptr) {
-  constexpr double kPi = 3.14159265358979323846;
   const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
   double x[3], perimeter;
   const double q = excesses(l, x, &perimeter);

@@ -8,6 +8,7 @@
 namespace bdinterp {
 
 inline constexpr double kPi = 3.14159265358979323846;
+inline constexpr double kTwoPi = 2 * kPi, kHalfPi = kPi / 2;  // the only other circle constants; exact
 
 // #V by 2 list of vertex positions, one row per vertex (row-major so numpy (n,2) maps without a copy).
 using Positions = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;

@@ -2,12 +2,15 @@
 // and pass instead of one per corner), with whole turns counted exactly.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "bdinterp/triangle.h"
+#include "bdinterp/types.h"
 
 namespace bdinterp::detail {
-constexpr double kTwoPi = 6.28318530717958647692;
 
 // Rescales (re, im) by a power of two (exactly) before it could overflow or underflow.
 inline void keep_in_range(double& re, double& im) {
@@ -52,6 +55,25 @@ inline void combine_turns(double& re, double& im, double& sum, double re2, doubl
   keep_in_range(nr, ni);
   re = nr;
   im = ni;
+}
+
+// a - 2 pi k in [-pi, pi] for the nearest whole k; wrap_angle(a - ref) is a's step from ref to the
+// branch nearest ref.
+inline double wrap_angle(double a) { return a - kTwoPi * std::round(a / kTwoPi); }
+
+// The whole turns 2 pi k nearest the weighted median of a rotation field, given as (angle, weight)
+// pairs (weights >= 0, not all zero; not empty). Subtracting it puts the field's bulk on the
+// principal branch: a limb turned past 180 degrees keeps its large rotation, the body ~0.
+inline double median_turns(std::vector<std::pair<double, double>> angle_weight) {
+  std::sort(angle_weight.begin(), angle_weight.end());
+  double total = 0, acc = 0, median = angle_weight.back().first;
+  for (const auto& aw : angle_weight) total += aw.second;
+  for (const auto& [angle, weight] : angle_weight)
+    if ((acc += weight) >= 0.5 * total) {
+      median = angle;
+      break;
+    }
+  return kTwoPi * std::round(median / kTwoPi);
 }
 
 }  // namespace bdinterp::detail
