@@ -33,7 +33,7 @@ std::vector<char> seed_vertices(const Mesh& mesh, const std::vector<Positions>& 
     }
     for (int v = 0; v < mesh.num_vertices(); ++v)
       if (!mesh.is_boundary_vertex(v) && !mesh.is_isolated_vertex(v) &&
-          std::abs(sum[v] - 2 * kPi) > options.angle_tolerance)
+          std::abs(sum[v] - kTwoPi) > options.angle_tolerance)
         seed[v] = 1;
   }
   for (int f = 0; f < F.rows(); ++f)

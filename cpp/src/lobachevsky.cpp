@@ -35,11 +35,11 @@ std::array<double, kTerms + 1> series_coefficients() {
 double clausen2(double x) {
   static const std::array<double, kTerms + 1> c = series_coefficients();
   // Reduce to (-pi, pi], then use oddness.
-  double r = std::remainder(x, 2 * kPi);
+  double r = std::remainder(x, kTwoPi);
   const double sign = r < 0 ? -1.0 : 1.0;
   r = std::abs(r);
   if (r == 0) return 0.0;
-  const double q = (r / (2 * kPi)) * (r / (2 * kPi));
+  const double q = (r / kTwoPi) * (r / kTwoPi);
   double sum = 0, p = 1;
   for (int k = 1; k <= kTerms; ++k) {
     p *= q;

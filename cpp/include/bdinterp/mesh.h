@@ -92,8 +92,11 @@ class Mesh {
 template <typename Keep>
 bool Mesh::one_fan_at(int v, Keep keep) const {
   int start = -1, kept = 0;
-  for (int f : vertex_faces(v))
-    if (keep(f)) start = start < 0 ? f : start, ++kept;
+  for (int f : vertex_faces(v)) {
+    if (!keep(f)) continue;
+    if (start < 0) start = f;
+    ++kept;
+  }
   if (kept < 2) return true;
   // The kept face after f round v: across the edge opposite corner c + step (2: counter-clockwise).
   auto next = [&](int f, int step) {
