@@ -54,11 +54,11 @@ void validate_anchor(const Anchor& anchor, const Mesh& mesh, int num_shapes) {
   if (anchor.mode == Anchor::Mode::Vertex && v < 0) throw InvalidInput("vertex anchor needs a vertex index");
   if (v < -1 || v >= nv) {
     std::ostringstream s;
-    s << "anchor vertex " << v << " is out of range [0, " << nv << ") (-1: the centroid)";
-    throw InvalidInput(s.str());
+    s << "the anchor vertex " << v << " is out of range [0, " << nv << ") (-1: the centroid)";
+    throw InvalidInput(Where::of_vertex(v), s.str());
   }
   if (v >= 0 && anchor.mode != Anchor::Mode::Centroid && mesh.is_isolated_vertex(v))
-    throw InvalidInput("anchor vertex " + std::to_string(v) + " is in no face");
+    throw InvalidInput(Where::of_vertex(v), "the anchor vertex is in no face");
   if (anchor.mode == Anchor::Mode::Path) validate_path(anchor.path, num_shapes);
 }
 
@@ -72,10 +72,10 @@ void check_orientation(const Positions& X, const Piece& p, int shape, int piece)
   }
   if (std::abs(total) > 1e-3 * absolute) return;
   std::ostringstream s;
-  s << "shape " << shape << ": the signed areas of piece " << piece << " (faces " << p.faces.front() << ".."
+  s << "the signed areas of piece " << piece << " (the piece of this face: faces " << p.faces.front() << ".."
     << p.faces.back() << ") cancel (sum " << 0.5 * total << " of total " << 0.5 * absolute
     << "): its faces are folded over each other and its centroid is undefined";
-  throw InvalidInput(s.str());
+  throw InvalidInput(Where::of_face(p.faces.front(), shape), s.str());
 }
 
 }  // namespace bdinterp::detail
@@ -99,7 +99,7 @@ std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& sha
   std::vector<Positions> unit;
   for (size_t i = 0; i < shapes.size(); ++i) {
     unit.push_back((shapes[i].rowwise() - offset_) / scale_);
-    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+    check_shape(mesh, unit.back(), static_cast<int>(i));
   }
   return unit;
 }

@@ -1,0 +1,77 @@
+// Issue #21 point 6: InvalidInput says where (shape, face, vertex) apart from what.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include "bdinterp/interpolator.h"
+#include "bdinterp/mesh.h"
+#include "test_checks.h"
+#include "test_meshes.h"
+
+namespace bdinterp {
+namespace {
+
+// The InvalidInput that fn throws (fails the test, and returns an empty one, if none).
+template <typename Fn>
+InvalidInput invalid_of(Fn fn) {
+  try {
+    fn();
+  } catch (const InvalidInput& e) {
+    return e;
+  }
+  ADD_FAILURE() << "no InvalidInput";
+  return InvalidInput("none");
+}
+
+void expect_at(const InvalidInput& e, int shape, int face, int vertex) {
+  EXPECT_EQ(e.where().shape, shape) << e.what();
+  EXPECT_EQ(e.where().face, face) << e.what();
+  EXPECT_EQ(e.where().vertex, vertex) << e.what();
+}
+
+TEST(Errors, TheMessageIsTheLocationThenTheDetail) {
+  const InvalidInput at(Where{1, 12, 7}, "broken");
+  EXPECT_EQ(std::string(at.what()), "shape 1, face 12, vertex 7: broken");
+  EXPECT_EQ(at.detail(), "broken");
+  EXPECT_EQ(std::string(InvalidInput(Where::of_vertex(3), "x").what()), "vertex 3: x");
+  const InvalidInput nowhere("no shapes");
+  EXPECT_EQ(std::string(nowhere.what()), "no shapes");
+  EXPECT_TRUE(nowhere.where().empty());
+  EXPECT_THROW(throw at, std::invalid_argument);  // what callers caught before
+}
+
+TEST(Errors, MeshErrorsNameTheFaceOrVertex) {
+  Faces out(1, 3), bowtie(2, 3);
+  out << 0, 1, 5;
+  bowtie << 0, 1, 2, 0, 3, 4;  // two triangles sharing only vertex 0
+  const InvalidInput e = invalid_of([&] { Mesh(out, 3); });
+  expect_at(e, -1, 0, -1);
+  EXPECT_EQ(e.detail(), "vertex index 5 out of range [0, 3)");
+  expect_at(invalid_of([&] { Mesh(bowtie, 5); }), -1, -1, 0);
+}
+
+TEST(Errors, ShapeErrorsNameTheShapeAndTheFaceOrVertex) {
+  const auto m = testing::jittered_grid(4, 3);  // 20 vertices
+  Positions nan = m.V, collapsed = m.V;
+  nan(9, 0) = std::nan("");
+  collapsed.row(m.F(5, 2)) = collapsed.row(m.F(5, 0));
+  expect_at(invalid_of([&] { Interpolator({m.V, nan}, m.F); }), 1, -1, 9);
+  const InvalidInput e = invalid_of([&] { Interpolator({m.V, m.V, collapsed}, m.F); });
+  EXPECT_EQ(e.where().shape, 2);
+  // Only a face of the moved vertex can have lost its area.
+  EXPECT_TRUE(m.F.row(e.where().face).cwiseEqual(m.F(5, 2)).any()) << e.what();
+  EXPECT_EQ(e.detail(), "zero area");
+  const Positions mirrored = m.V * Eigen::Vector2d(-1, 1).asDiagonal();
+  expect_at(invalid_of([&] { Interpolator({m.V, mirrored}, m.F); }), 1, -1, -1);
+}
+
+TEST(Errors, AnAnchorVertexOutOfRangeIsNamedOnce) {
+  const auto m = testing::jittered_grid(4, 3);
+  const InvalidInput e = invalid_of([&] { Interpolator({m.V, m.V}, m.F, Anchor::at_vertex(20)); });
+  expect_at(e, -1, -1, 20);
+  EXPECT_NE(e.detail().find("out of range [0, 20)"), std::string::npos) << e.what();
+}
+
+}  // namespace
+}  // namespace bdinterp
