@@ -10,6 +10,11 @@
 namespace bdinterp::detail {
 namespace {
 
+// The residual max |2pi - angle sum| is a difference of doubles in [4, 8), hence 0 or at least their
+// spacing 2^-50 (~8.9e-16): a smaller tolerance asks for an exact zero at every interior vertex,
+// which Newton steps on rounded angles cannot aim for. Scale-free: the inputs are normalised.
+constexpr double kToleranceFloor = 0x1p-50;
+
 void validate_path(const AnchorPath& p, int num_shapes) {
   if (num_shapes != 2) throw InvalidInput("an anchor path needs exactly two shapes");
   if (p.t.empty() || p.angle.size() != p.t.size() || p.position.rows() != static_cast<int>(p.t.size()))
@@ -36,6 +41,13 @@ std::string weights_text(const Eigen::VectorXd& w) {
 
 void validate_options(const InterpolatorOptions& o, int num_shapes) {
   validate(o.flatten);
+  if (o.flatten.tolerance < kToleranceFloor) {
+    std::ostringstream s;
+    s.precision(3);
+    s << "tolerance " << o.flatten.tolerance << " is below " << kToleranceFloor
+      << ", the smallest angle-sum residual a double can reach (the spacing of doubles at 2 pi)";
+    throw InvalidInput(s.str());
+  }
   if (o.base < 0 || o.base >= num_shapes) {
     std::ostringstream s;
     s << "base shape index " << o.base << " out of range [0, " << num_shapes << ")";

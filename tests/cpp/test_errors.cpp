@@ -1,6 +1,8 @@
-// Issue #21 point 6: InvalidInput says where (shape, face, vertex) apart from what.
+// Issue #21 point 6: InvalidInput says where (shape, face, vertex) apart from what, and a tolerance
+// no double can reach is refused before any Newton step.
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -71,6 +73,28 @@ TEST(Errors, AnAnchorVertexOutOfRangeIsNamedOnce) {
   const InvalidInput e = invalid_of([&] { Interpolator({m.V, m.V}, m.F, Anchor::at_vertex(20)); });
   expect_at(e, -1, -1, 20);
   EXPECT_NE(e.detail().find("out of range [0, 20)"), std::string::npos) << e.what();
+}
+
+TEST(Errors, AToleranceBelowTheSpacingOfDoublesAt2PiIsRefusedAtOnce) {
+  // The fuzzer's finding: 20 vertices, tol = 1.9e-304, 24,739 iterations ran a second of futile
+  // Newton steps before the SolverError.
+  const auto m = testing::jittered_grid(4, 3);
+  const Positions target = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 1.0); });
+  InterpolatorOptions o;
+  o.flatten.tolerance = 1.9e-304;
+  o.flatten.max_iterations = 24739;
+  const auto start = std::chrono::steady_clock::now();
+  const InvalidInput e = invalid_of([&] { Interpolator({m.V, target}, m.F, Anchor(), o).at(0.5); });
+  const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_LT(ms, 10.0);
+  EXPECT_NE(std::string(e.what()).find("tolerance 1.9e-304 is below 8.88e-16"), std::string::npos) << e.what();
+  o.flatten.tolerance = std::ldexp(1.0, -50) * 0.99;
+  EXPECT_THROW(Interpolator({m.V, target}, m.F, Anchor(), o), InvalidInput);
+  o.flatten.tolerance = 1e-14;  // reachable: solves
+  Interpolator I({m.V, target}, m.F, Anchor(), o);
+  I.at(0.5);
+  EXPECT_TRUE(I.last_stats().converged);
+  EXPECT_LE(I.last_stats().residual, 1e-14);
 }
 
 }  // namespace

@@ -9,7 +9,8 @@ namespace bdinterp::detail {
 
 // "(w0, w1, ...)" at full precision, for messages.
 std::string weights_text(const Eigen::VectorXd& w);
-// Every field of the options, for `num_shapes` inputs.
+// Every field of the options, for `num_shapes` inputs; the tolerance also >= 2^-50 (~8.9e-16), the
+// smallest angle-sum residual a double can reach on the normalised inputs (InvalidInput naming both).
 void validate_options(const InterpolatorOptions& o, int num_shapes);
 // The anchor's vertex (-1 or a vertex in a face; InvalidInput at that vertex) and path (finite,
 // increasing t; finite positions and angles; two shapes).
