@@ -6,7 +6,7 @@ import numpy as np
 
 from . import _core
 from . import _validate
-from .constants import INT_MAX, MAX_ITERATIONS, MAX_THREADS, METHODS, THREADS, TOLERANCE
+from .constants import INT_MAX, MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
 
 
 @dataclass
@@ -64,7 +64,8 @@ def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
-    o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
+    # The range [0, MAX_THREADS] is the core's to check (one layer); here: an int that fits a C int.
+    o.threads = _validate.integer(threads, "threads", -INT_MAX, INT_MAX)
     for name, value in (("strict", strict), ("folds", folds), ("joints", joints)):
         if not isinstance(value, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False, got {value!r}")

@@ -127,8 +127,9 @@ def test_frames_options_and_methods_are_checked(bar):
     ({"max_iterations": 0}, r"max_iterations must be an integer in \[1, 2147483647\], got 0"),
     ({"max_iterations": 2.5}, "max_iterations must be an integer, got 2.5"),
     ({"max_iterations": 2 ** 40}, r"max_iterations must be an integer in \[1, "),
-    ({"threads": 2 ** 40}, r"threads must be an integer in \[0, 1024\], got 1099511627776"),
-    ({"threads": -1}, "threads must be an integer in"),
+    ({"threads": 2 ** 40}, r"threads must be an integer in \[-2147483647, 2147483647\], got 1099511627776"),
+    ({"threads": -1}, r"threads must be in \[0, 1024\] \(got -1\)"),  # the core's check (one layer)
+    ({"threads": 1025}, r"threads must be in \[0, 1024\] \(got 1025\)"),
     ({"threads": 1.0}, "threads must be an integer, got 1.0"),
     ({"threads": True}, "threads must be an integer, got True"),
     ({"base": 2}, r"base must be an integer in \[0, 1\], got 2"),
