@@ -81,7 +81,7 @@ def faces(f, num_vertices):
                          f"{'a ragged list' if a is None else f'shape {a.shape}'}")
     if a.size and not np.issubdtype(a.dtype, np.integer):
         raise ValueError(f"faces must be an integer array, got dtype {a.dtype}")
-    if a.size:
+    if a.size:  # checked here as well as in the core: Layers.fit indexes with the faces first
         low, high = a.min(), a.max()
         if low < 0 or high >= num_vertices:
             bad = np.flatnonzero(((a < 0) | (a >= num_vertices)).any(axis=1))[0]
