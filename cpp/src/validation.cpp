@@ -66,7 +66,9 @@ void validate_anchor(const Anchor& anchor, const Mesh& mesh, int num_shapes) {
   if (anchor.mode == Anchor::Mode::Vertex && v < 0) throw InvalidInput("vertex anchor needs a vertex index");
   if (v < -1 || v >= nv) {
     std::ostringstream s;
-    s << "the anchor vertex " << v << " is out of range [0, " << nv << ") (-1: the centroid)";
+    // Where carries an index >= 0; a negative one stays in the text.
+    s << "the anchor vertex " << (v < 0 ? std::to_string(v) + " " : "") << "is out of range [0, " << nv
+      << ") (-1: the centroid)";
     throw InvalidInput(Where::of_vertex(v), s.str());
   }
   if (v >= 0 && anchor.mode != Anchor::Mode::Centroid && mesh.is_isolated_vertex(v))

@@ -130,8 +130,8 @@ def test_an_anchor_vertex_out_of_range_is_named_by_the_core(addon):
     """The core alone checks the range (issue #21: one layer); the add-on names the vertex."""
     obj = bent_strip()
     n = len(obj.data.vertices)
-    with pytest.raises(ValueError, match=r"^Strip: vertex %d: the anchor vertex %d is out of range "
-                                         r"\[0, %d\)" % (n, n, n)):
+    with pytest.raises(ValueError, match=r"^Strip: vertex %d: the anchor vertex is out of range "
+                                         r"\[0, %d\)" % (n, n)):
         addon.bake(obj, target="Bend", anchor=n)
 
 

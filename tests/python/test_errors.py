@@ -67,7 +67,8 @@ def test_the_anchor_vertex_is_checked_once_by_the_core(disk):
     V, F = disk
     n = len(V)
     for anchor in (n, bdinterp.AnchorPath([0, 1], [[0, 0], [1, 0]], [0, 0], vertex=n)):
-        with pytest.raises(bdinterp.InvalidInputError, match=rf"out of range \[0, {n}\)") as info:
+        with pytest.raises(bdinterp.InvalidInputError,
+                           match=rf"^vertex {n}: the anchor vertex is out of range \[0, {n}\)") as info:
             bdinterp.Interpolator([V, 2 * V], F, anchor=anchor)
         assert where(info) == (None, None, n)
     with pytest.raises(ValueError, match="anchor vertex must be an integer"):
