@@ -380,10 +380,4 @@ void Interpolator::prepare_workers(int workers) {
   }
 }
 
-Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,
-                      const Anchor& anchor) {
-  Interpolator I({source, target}, F, anchor);
-  return I.at(t);
-}
-
 }  // namespace bdinterp

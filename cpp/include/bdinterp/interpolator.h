@@ -105,7 +105,8 @@ class Interpolator {
   // reused), with the thread settings of a frame. Leaves the warm-start history untouched but
   // invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
-  // options().threads, for the bindings' `threads` property (InvalidInput outside [0, kMaxThreads]).
+  // Sets options().threads (InvalidInput outside [0, kMaxThreads]) for the calls after it: for C++
+  // benchmarks and fuzzers. Python's `threads` property is read-only (threads= of the constructor).
   void set_threads(int n);
   int threads() const;
   const InterpolatorOptions& options() const { return options_; }
@@ -149,9 +150,5 @@ class Interpolator {
   FrameStats stats_;
   mutable std::mutex mutex_;
 };
-
-// One-off: interpolate between two shapes at t (builds and discards an Interpolator).
-Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,
-                      const Anchor& anchor = {});
 
 }  // namespace bdinterp
