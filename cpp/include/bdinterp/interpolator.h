@@ -12,8 +12,11 @@
 
 namespace bdinterp {
 
-class FoldFill;
-class Joints;
+namespace detail {
+struct PiecePlan;    // piece_solver.h
+class PieceSolver;   // piece_solver.h
+class FramePasses;   // frame_passes.h
+}  // namespace detail
 
 struct InterpolatorOptions {
   FlattenOptions flatten;
@@ -123,30 +126,25 @@ class Interpolator {
   std::vector<JointInfo> joints() const;
 
  private:
-  struct PiecePlan;
-  struct Workspace;
   // The shapes moved and scaled to unit size (sets offset_, scale_), validated.
   std::vector<Positions> normalise(const std::vector<Positions>& shapes, const Mesh& mesh);
   void check_weights(const Eigen::VectorXd& w) const;
+  // Solvers for `workers` workers, workers 1, 2, ... continuing from worker 0's history.
   void prepare_workers(int workers);
-  // One frame into out (in the caller's coordinates); `worker` selects the workspaces.
+  // One frame into out (in the caller's coordinates): every piece, then the frame passes; `worker`
+  // selects the piece solvers.
   FrameStats solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker);
-  // Flags (or, strict, raises on) broken triangles and a large flatness residual in st.
-  void self_check(FrameStats& st, const Eigen::VectorXd& w) const;
 
   int num_shapes_ = 0, num_vertices_ = 0;
   Anchor anchor_;  // in the normalised frame
   InterpolatorOptions options_;
   Eigen::RowVector2d offset_;  // caller's = scale_ * normalised + offset_
   double scale_ = 1;
-  std::vector<std::unique_ptr<const PiecePlan>> plans_;
-  // workers_[k][p]: worker k's workspace for piece p (worker 0 serves at/blend and keeps history).
-  std::vector<std::vector<std::unique_ptr<Workspace>>> workers_;
-  std::vector<int> isolated_;
+  std::vector<std::unique_ptr<const detail::PiecePlan>> plans_;
+  // workers_[k][p]: worker k's solver of piece p (worker 0 serves at/blend and keeps history).
+  std::vector<std::vector<std::unique_ptr<detail::PieceSolver>>> workers_;
   std::vector<std::vector<int>> folded_;  // per shape: folded_faces
-  std::unique_ptr<const FoldFill> folds_;  // set when an input folds: the fill of its fold region
-  std::unique_ptr<const Joints> joints_;   // set when options.joints: the joints between pieces
-  std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
+  std::unique_ptr<const detail::FramePasses> passes_;  // joints, isolated vertices, fold fill, ...
   FrameStats stats_;
   mutable std::mutex mutex_;
 };
