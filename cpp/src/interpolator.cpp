@@ -5,8 +5,8 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <limits>
 #include <sstream>
-#include <thread>
 
 #include "bdinterp/orientation.h"
 #include "bdinterp/parallel.h"
@@ -78,6 +78,14 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
 int frame_workers(int threads, size_t frames) {
   const int workers = threads > 0 ? threads : parallel::usable_cores();
   return std::max(1, std::min<int>(workers, static_cast<int>(frames / 4)));
+}
+
+// The one call frames() makes to the project's pool: body(k) for every chunk k in [0, chunks).
+// A chunk is whole frames (milliseconds each), so the size hint says "large": the pool's rules for
+// small loops are for the loops inside a frame.
+template <class Body>
+void run_frame_chunks(int chunks, Body&& body) {
+  parallel::run(chunks, std::forward<Body>(body), std::numeric_limits<long>::max());
 }
 
 }  // namespace
@@ -232,22 +240,18 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   prepare_workers(workers);
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
-  auto run = [&](int k) {
+  run_frame_chunks(workers, [&](int k) {
     // With several workers, the loops inside a frame stay on their thread (and OpenBLAS on one thread).
     const parallel::ThreadLimit limit(workers > 1 ? 1 : options_.threads);
-    const size_t chunk = workers - 1 - k;  // worker 0 does the last chunk
+    const size_t chunk = workers - 1 - k;
     const size_t begin = ts.size() * chunk / workers, end = ts.size() * (chunk + 1) / workers;
     try {
       for (size_t j = begin; j < end; ++j)
         merge(stats[k], solve_frame(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n), k));
     } catch (...) {
-      errors[k] = std::current_exception();
+      errors[k] = std::current_exception();  // the pool's bodies must not throw
     }
-  };
-  std::vector<std::thread> pool;
-  for (int k = 1; k < workers; ++k) pool.emplace_back(run, k);
-  run(0);
-  for (auto& th : pool) th.join();
+  });
   for (const auto& e : errors) if (e) std::rethrow_exception(e);
   FrameStats st = stats[0];
   for (int k = 1; k < workers; ++k) merge(st, stats[k]);

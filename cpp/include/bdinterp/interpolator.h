@@ -92,7 +92,8 @@ class Interpolator {
   // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
   Positions blend(const Eigen::VectorXd& w);
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
-  // The sequence is cut into contiguous chunks solved in parallel (see InterpolatorOptions::threads);
+  // The sequence is cut into contiguous chunks solved on the pool (parallel.h; serially while it
+  // judges the machine busy, with the same chunks and results; see InterpolatorOptions::threads);
   // each frame is warm-started from the frames before it in its chunk. Afterwards last_stats()
   // merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
