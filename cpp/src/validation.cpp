@@ -133,18 +133,4 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
   }
 }
 
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
-  std::ostringstream s;
-  if (st.broken_triangles > 0)
-    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
-  if (!(st.flatness <= options_.max_flatness)) {
-    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
-      << " exceeds max_flatness " << options_.max_flatness;
-  }
-  if (s.tellp() == 0) return;
-  st.converged = false;
-  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
-  if (options_.strict) throw SolverError(st.warnings + " (strict)");
-}
-
 }  // namespace bdinterp
