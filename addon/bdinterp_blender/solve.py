@@ -1,11 +1,10 @@
 """Shapes from shape keys -> frames, blends and their distortion (reads bpy data, never writes it).
 
 The service layer under api.py, live.py and distortion.py: validation (Inputs), the solver calls
-(chunked Interpolator.frames() for bakes, blend() for poses) and the translation of the core's
-words ("shape 1", "face 12" = a triangle) into Blender's (key names, polygon indices).
+(chunked Interpolator.frames() for bakes, blend() for poses) and the translation of where an
+InvalidInputError points (its shape, face = a triangle, vertex) into Blender's terms (key names,
+polygon indices).
 """
-
-import re
 
 from . import mesh_io
 from .mesh_io import BakeError
@@ -55,12 +54,14 @@ class Inputs:
         return shapes
 
     def explain(self, exc):
-        """BakeError in Blender's terms: 'shape i' -> the key's name, 'face f' (a triangle of the
-        tessellation) -> its polygon, 'vertex v' -> the object's vertex, prefixed with the
-        object's name."""
-        text = re.sub(r"\bshape (\d+)\b", lambda m: self._key_name(int(m.group(1))), str(exc))
-        text = re.sub(r"\bface (\d+)\b", lambda m: self._polygon(int(m.group(1))), text)
-        text = re.sub(r"\bvertex (\d+)\b", lambda m: self.vertex_name(int(m.group(1))), text)
+        """BakeError in Blender's terms, prefixed with the object's name: an InvalidInputError's
+        shape -> the key's name, face (a triangle of the tessellation) -> its polygon, vertex ->
+        the object's vertex, then its detail; any other error's message as it is."""
+        where = [name(i) for name, i in ((self._key_name, getattr(exc, "shape", None)),
+                                         (self._polygon, getattr(exc, "face", None)),
+                                         (self.vertex_name, getattr(exc, "vertex", None)))
+                 if i is not None]
+        text = "%s: %s" % (", ".join(where), exc.detail) if where else str(exc)
         return BakeError("%s: %s" % (self.obj_name, text))
 
     def vertex_name(self, v):
@@ -105,10 +106,7 @@ def resolve_anchor(obj, anchor, anchor_path, n_targets):
     if anchor in (None, "AUTO", "auto"):
         vertex = None
     elif isinstance(anchor, int):
-        if not 0 <= anchor < len(obj.data.vertices):
-            raise BakeError("anchor vertex %d does not exist (%s has %d vertices)"
-                            % (anchor, obj.name, len(obj.data.vertices)))
-        vertex = anchor
+        vertex = anchor  # the core checks the range (explain() names the vertex)
     else:
         vertex = mesh_io.anchor_vertex_of_group(obj, getattr(anchor, "name", anchor))
     if anchor_path is None:

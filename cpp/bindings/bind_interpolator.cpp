@@ -110,7 +110,8 @@ void bind_interpolator(py::module_& m) {
       .def("floor_seconds", &Interpolator::floor_seconds, py::arg("repeats") = 5, Release(),
            "Median seconds of one Cholesky factorisation + solve of the interior cotan Laplacian.")
       .def_property_readonly("options", &Interpolator::options, "The options it was built with.")
-      .def_property_readonly("threads", &Interpolator::threads)
+      .def_property_readonly("threads", &Interpolator::threads,
+                             "options.threads (read-only: an Interpolator keeps the threads it was built with).")
       .def_property_readonly("num_vertices", &Interpolator::num_vertices)
       .def_property_readonly("num_shapes", &Interpolator::num_shapes);
 }

@@ -12,10 +12,6 @@ namespace bdinterp::bindings {
 
 namespace py = pybind11;
 
-// Views of numpy arrays without copies when they are C-contiguous float64 (n,2) / int32 (m,3).
-using PositionsRef = Eigen::Ref<const Positions>;
-using FacesRef = Eigen::Ref<const Faces>;
-
 void bind_anchor(py::module_& m);
 void bind_stats(py::module_& m);
 void bind_interpolator(py::module_& m);

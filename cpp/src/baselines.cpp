@@ -36,8 +36,8 @@ struct ArapInterpolator::PieceData {
 ArapInterpolator::ArapInterpolator(const Positions& source, const Positions& target, const Faces& F)
     : source_(source), target_(target) {
   const Mesh mesh(F, static_cast<int>(source.rows()));
-  check_shape(mesh, source, "source");
-  check_shape(mesh, target, "target");
+  check_shape(mesh, source, 0);
+  check_shape(mesh, target, 1);
   for (int v = 0; v < mesh.num_vertices(); ++v)
     if (mesh.is_isolated_vertex(v)) isolated_.push_back(v);
   for (Piece& p : split_into_pieces(mesh)) {

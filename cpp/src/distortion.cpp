@@ -22,8 +22,8 @@ void for_each_jacobian(const Eigen::Ref<const Positions>& X0, const Eigen::Ref<c
     for (int c = 0; c < 3; ++c) {
       if (F(f, c) < 0 || F(f, c) >= X0.rows()) {
         std::ostringstream s;
-        s << "face " << f << " has vertex index " << F(f, c) << " out of range [0, " << X0.rows() << ")";
-        throw InvalidInput(s.str());
+        s << "vertex index " << F(f, c) << " out of range [0, " << X0.rows() << ")";
+        throw InvalidInput(Where::of_face(f), s.str());
       }
     }
     Eigen::Matrix2d D0, D1;
@@ -42,8 +42,8 @@ void for_each_jacobian(const Eigen::Ref<const Positions>& X0, const Eigen::Ref<c
     const double det0 = D0.determinant();
     if (!(std::abs(det0) > 0)) {
       std::ostringstream s;
-      s << "face " << f << " has zero area (or a non-finite vertex) in the source";
-      throw InvalidInput(s.str());
+      s << "zero area (or a non-finite vertex) in the source";
+      throw InvalidInput(Where::of_face(f), s.str());
     }
     fn(f, D1 * D0.inverse(), D1.determinant() / det0);
   }

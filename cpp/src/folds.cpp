@@ -88,8 +88,8 @@ void check_pieces_remain(const Mesh& mesh, const std::vector<char>& in_region) {
       if (mesh.piece_of_face(f) == p) v = mesh.faces()(f, 0);
     std::ostringstream s;
     s << "the inputs fold or shrink (below half the base area) the faces of piece " << p
-      << " (near vertex " << v << ") everywhere: no fold-free part is left to interpolate";
-    throw InvalidInput(s.str());
+      << " (the piece of this vertex) everywhere: no fold-free part is left to interpolate";
+    throw InvalidInput(Where::of_vertex(v), s.str());
   }
 }
 

@@ -37,14 +37,14 @@ void check_face_indices(const Faces& F, int num_vertices) {
       const int v = F(f, c);
       if (v < 0 || v >= num_vertices) {
         std::ostringstream s;
-        s << "face " << f << " has vertex index " << v << " out of range [0, " << num_vertices << ")";
-        throw InvalidInput(s.str());
+        s << "vertex index " << v << " out of range [0, " << num_vertices << ")";
+        throw InvalidInput(Where::of_face(f), s.str());
       }
     }
     if (F(f, 0) == F(f, 1) || F(f, 1) == F(f, 2) || F(f, 0) == F(f, 2)) {
       std::ostringstream s;
-      s << "face " << f << " repeats a vertex (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2) << ")";
-      throw InvalidInput(s.str());
+      s << "repeats a vertex (" << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2) << ")";
+      throw InvalidInput(Where::of_face(f), s.str());
     }
   }
 }
@@ -83,10 +83,10 @@ void Mesh::build_edges() {
     const int a = F(f0, (h0 % 3 + 1) % 3), b = F(f0, (h0 % 3 + 2) % 3);
     if (j - k > 2) {
       std::ostringstream s;
-      s << "edge " << edge_name(a, b) << " is shared by " << (j - k) << " faces (";
+      s << "its edge " << edge_name(a, b) << " is shared by " << (j - k) << " faces (";
       for (size_t q = k; q < j; ++q) s << (q > k ? ", " : "") << he[q].second / 3;
       s << "): the mesh is not manifold";
-      throw InvalidInput(s.str());
+      throw InvalidInput(Where::of_face(f0), s.str());
     }
     int f1 = -1;
     if (j - k == 2) {
@@ -94,9 +94,9 @@ void Mesh::build_edges() {
       f1 = h1 / 3;
       if (F(f1, (h1 % 3 + 1) % 3) == a) {
         std::ostringstream s;
-        s << "faces " << f0 << " and " << f1 << " traverse edge " << edge_name(a, b)
-          << " in the same direction: face orientation is inconsistent";
-        throw InvalidInput(s.str());
+        s << "traverses edge " << edge_name(a, b) << " in the same direction as face " << f1
+          << ": face orientation is inconsistent";
+        throw InvalidInput(Where::of_face(f0), s.str());
       }
     }
     for (size_t q = k; q < j; ++q) FE_(he[q].second / 3, he[q].second % 3) = static_cast<int>(edges.size());
@@ -121,8 +121,8 @@ std::vector<int> Mesh::chain_boundary() {
     const int a = F_(f, (c + 1) % 3), b = F_(f, (c + 2) % 3);  // boundary walked with the face on the left
     if (next_on_boundary[a] >= 0) {
       std::ostringstream s;
-      s << "vertex " << a << " is non-manifold: its faces form more than one fan";
-      throw InvalidInput(s.str());
+      s << "non-manifold: its faces form more than one fan";
+      throw InvalidInput(Where::of_vertex(a), s.str());
     }
     next_on_boundary[a] = b;
     boundary_vertex_[a] = boundary_vertex_[b] = true;
@@ -148,9 +148,8 @@ void Mesh::find_pieces() {
       int& p = vertex_piece_[F_(f, c)];
       if (p >= 0 && p != face_piece_[f]) {
         std::ostringstream s;
-        s << "vertex " << F_(f, c) << " is shared by pieces that have no edge in common "
-          << "(non-manifold vertex)";
-        throw InvalidInput(s.str());
+        s << "shared by pieces that have no edge in common (non-manifold vertex)";
+        throw InvalidInput(Where::of_vertex(F_(f, c)), s.str());
       }
       p = face_piece_[f];
     }
@@ -172,9 +171,8 @@ void Mesh::check_fans() const {
   for (int v = 0; v < num_vertices_; ++v) {
     if (one_fan_at(v, [](int) { return true; })) continue;
     std::ostringstream s;
-    s << "vertex " << v << " is non-manifold: its " << vertex_faces(v).size()
-      << " faces do not form a single fan";
-    throw InvalidInput(s.str());
+    s << "non-manifold: its " << vertex_faces(v).size() << " faces do not form a single fan";
+    throw InvalidInput(Where::of_vertex(v), s.str());
   }
 }
 
@@ -245,8 +243,8 @@ std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
   for (int p = 0; p < np; ++p) {
     if (loops_per_piece[p] == 1 || (allow_holes && loops_per_piece[p] > 1)) continue;
     std::ostringstream s;
-    s << "piece " << p << " (faces " << pf[p].front() << ".." << pf[p].back() << ", " << pv[p].size()
-      << " vertices) ";
+    s << "piece " << p << " (the piece of this face: faces " << pf[p].front() << ".." << pf[p].back() << ", "
+      << pv[p].size() << " vertices) ";
     if (loops_per_piece[p] == 0) {
       s << "has no boundary (a closed surface cannot be flattened)";
     } else {
@@ -255,7 +253,7 @@ std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
       for (size_t k = 0; k < mesh.boundary_loops().size(); ++k)
         if (mesh.loop_piece(k) == p) s << " " << mesh.boundary_loops()[k].front();
     }
-    throw InvalidInput(s.str());
+    throw InvalidInput(Where::of_face(pf[p].front()), s.str());
   }
   std::vector<int> local(mesh.num_vertices(), -1);
   std::vector<Piece> pieces;

@@ -14,18 +14,15 @@ Eigen::VectorXd squared_edge_lengths(const Mesh& mesh, const Positions& X) {
   return l2;
 }
 
-void check_shape(const Mesh& mesh, const Positions& X, const std::string& what) {
+void check_shape(const Mesh& mesh, const Positions& X, int shape) {
   if (X.rows() != mesh.num_vertices()) {
     std::ostringstream s;
-    s << what << " has " << X.rows() << " vertices, the faces need " << mesh.num_vertices();
-    throw InvalidInput(s.str());
+    s << "has " << X.rows() << " vertices, the faces need " << mesh.num_vertices();
+    throw InvalidInput(Where::of_shape(shape), s.str());
   }
   for (int v = 0; v < X.rows(); ++v) {
-    if (!std::isfinite(X(v, 0)) || !std::isfinite(X(v, 1))) {
-      std::ostringstream s;
-      s << what << ": vertex " << v << " has a non-finite coordinate";
-      throw InvalidInput(s.str());
-    }
+    if (!std::isfinite(X(v, 0)) || !std::isfinite(X(v, 1)))
+      throw InvalidInput(Where::of_vertex(v, shape), "a non-finite coordinate");
   }
   const Faces& F = mesh.faces();
   for (int f = 0; f < F.rows(); ++f) {
@@ -33,12 +30,7 @@ void check_shape(const Mesh& mesh, const Positions& X, const std::string& what) 
     const Eigen::RowVector2d c = b - a;
     const double area2 = std::abs(doubled_area(X, F, f));
     const double longest = std::max({a.squaredNorm(), b.squaredNorm(), c.squaredNorm()});
-    if (!(area2 > 2e-12 * longest)) {
-      std::ostringstream s;
-      s << what << ": face " << f << " (vertices " << F(f, 0) << ", " << F(f, 1) << ", " << F(f, 2)
-        << ") has zero area";
-      throw InvalidInput(s.str());
-    }
+    if (!(area2 > 2e-12 * longest)) throw InvalidInput(Where::of_face(f, shape), "zero area");
   }
 }
 
@@ -50,11 +42,7 @@ Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen:
     throw InvalidInput(s.str());
   }
   for (Eigen::Index i = 0; i < w.size(); ++i) {
-    if (!std::isfinite(w[i])) {
-      std::ostringstream s;
-      s << "weight " << i << " is not finite";
-      throw InvalidInput(s.str());
-    }
+    if (!std::isfinite(w[i])) throw InvalidInput(Where::of_shape(static_cast<int>(i)), "its weight is not finite");
   }
   Eigen::VectorXd out = w[0] * l2[0];
   for (size_t i = 1; i < l2.size(); ++i) out += w[static_cast<Eigen::Index>(i)] * l2[i];
@@ -71,9 +59,9 @@ Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen:
       std::ostringstream s;
       s << "the weights (";
       for (Eigen::Index i = 0; i < w.size(); ++i) s << (i ? ", " : "") << w[i];
-      s << ") give an invalid metric at face " << f
-        << ": its blended edge lengths violate the triangle inequality (extrapolating too far)";
-      throw InvalidInput(s.str());
+      s << ") give an invalid metric: the blended edge lengths violate the triangle inequality "
+        << "(extrapolating too far)";
+      throw InvalidInput(Where::of_face(f), s.str());
     }
   }
   return out;

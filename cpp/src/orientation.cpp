@@ -25,11 +25,10 @@ std::vector<std::vector<int>> check_not_mirrored(const Mesh& mesh, const std::ve
     for (int p = 0; p < mesh.num_pieces(); ++p) {
       if (2 * folded[p] <= faces_of_piece[p]) continue;
       std::ostringstream s;
-      s << "shape " << i << " is a mirror image of shape " << base << ": " << folded[p] << " of "
-        << faces_of_piece[p] << " faces";
+      s << "a mirror image of the base shape: " << folded[p] << " of " << faces_of_piece[p] << " faces";
       if (mesh.num_pieces() > 1) s << " of piece " << p;
       s << " are reversed (a reflection cannot be reached by rotating; mirror the shape back)";
-      throw InvalidInput(s.str());
+      throw InvalidInput(Where::of_shape(static_cast<int>(i)), s.str());
     }
   }
   return all;

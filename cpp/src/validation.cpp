@@ -10,6 +10,11 @@
 namespace bdinterp::detail {
 namespace {
 
+// The residual max |2pi - angle sum| is a difference of doubles in [4, 8), hence 0 or at least their
+// spacing 2^-50 (~8.9e-16): a smaller tolerance asks for an exact zero at every interior vertex,
+// which Newton steps on rounded angles cannot aim for. Scale-free: the inputs are normalised.
+constexpr double kToleranceFloor = 0x1p-50;
+
 void validate_path(const AnchorPath& p, int num_shapes) {
   if (num_shapes != 2) throw InvalidInput("an anchor path needs exactly two shapes");
   if (p.t.empty() || p.angle.size() != p.t.size() || p.position.rows() != static_cast<int>(p.t.size()))
@@ -36,6 +41,13 @@ std::string weights_text(const Eigen::VectorXd& w) {
 
 void validate_options(const InterpolatorOptions& o, int num_shapes) {
   validate(o.flatten);
+  if (o.flatten.tolerance < kToleranceFloor) {
+    std::ostringstream s;
+    s.precision(3);
+    s << "tolerance " << o.flatten.tolerance << " is below " << kToleranceFloor
+      << ", the smallest angle-sum residual a double can reach (the spacing of doubles at 2 pi)";
+    throw InvalidInput(s.str());
+  }
   if (o.base < 0 || o.base >= num_shapes) {
     std::ostringstream s;
     s << "base shape index " << o.base << " out of range [0, " << num_shapes << ")";
@@ -54,11 +66,13 @@ void validate_anchor(const Anchor& anchor, const Mesh& mesh, int num_shapes) {
   if (anchor.mode == Anchor::Mode::Vertex && v < 0) throw InvalidInput("vertex anchor needs a vertex index");
   if (v < -1 || v >= nv) {
     std::ostringstream s;
-    s << "anchor vertex " << v << " is out of range [0, " << nv << ") (-1: the centroid)";
-    throw InvalidInput(s.str());
+    // Where carries an index >= 0; a negative one stays in the text.
+    s << "the anchor vertex " << (v < 0 ? std::to_string(v) + " " : "") << "is out of range [0, " << nv
+      << ") (-1: the centroid)";
+    throw InvalidInput(Where::of_vertex(v), s.str());
   }
   if (v >= 0 && anchor.mode != Anchor::Mode::Centroid && mesh.is_isolated_vertex(v))
-    throw InvalidInput("anchor vertex " + std::to_string(v) + " is in no face");
+    throw InvalidInput(Where::of_vertex(v), "the anchor vertex is in no face");
   if (anchor.mode == Anchor::Mode::Path) validate_path(anchor.path, num_shapes);
 }
 
@@ -72,10 +86,10 @@ void check_orientation(const Positions& X, const Piece& p, int shape, int piece)
   }
   if (std::abs(total) > 1e-3 * absolute) return;
   std::ostringstream s;
-  s << "shape " << shape << ": the signed areas of piece " << piece << " (faces " << p.faces.front() << ".."
+  s << "the signed areas of piece " << piece << " (the piece of this face: faces " << p.faces.front() << ".."
     << p.faces.back() << ") cancel (sum " << 0.5 * total << " of total " << 0.5 * absolute
     << "): its faces are folded over each other and its centroid is undefined";
-  throw InvalidInput(s.str());
+  throw InvalidInput(Where::of_face(p.faces.front(), shape), s.str());
 }
 
 }  // namespace bdinterp::detail
@@ -99,7 +113,7 @@ std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& sha
   std::vector<Positions> unit;
   for (size_t i = 0; i < shapes.size(); ++i) {
     unit.push_back((shapes[i].rowwise() - offset_) / scale_);
-    check_shape(mesh, unit.back(), "shape " + std::to_string(i));
+    check_shape(mesh, unit.back(), static_cast<int>(i));
   }
   return unit;
 }
@@ -117,20 +131,6 @@ void Interpolator::check_weights(const Eigen::VectorXd& w) const {
     s << "weights must sum to 1 (they sum to " << w.sum() << ")";
     throw InvalidInput(s.str());
   }
-}
-
-void Interpolator::self_check(FrameStats& st, const Eigen::VectorXd& w) const {
-  std::ostringstream s;
-  if (st.broken_triangles > 0)
-    s << st.broken_triangles << " triangles violate the triangle inequality in the flattened metric";
-  if (!(st.flatness <= options_.max_flatness)) {
-    s << (st.broken_triangles > 0 ? "; " : "") << "the layout's flatness residual " << st.flatness
-      << " exceeds max_flatness " << options_.max_flatness;
-  }
-  if (s.tellp() == 0) return;
-  st.converged = false;
-  st.warnings = "frame at weights " + weights_text(w) + ": " + s.str();
-  if (options_.strict) throw SolverError(st.warnings + " (strict)");
 }
 
 }  // namespace bdinterp

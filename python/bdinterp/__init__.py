@@ -11,10 +11,12 @@ Public API (numpy in, numpy out):
     Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
     AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
     threading_info() (usable cores, the busy verdict, the BLAS/OpenMP runtimes CHOLMOD calls)
-    SolverError (a RuntimeError); invalid input raises ValueError.
+    SolverError (a RuntimeError); invalid input raises ValueError, InvalidInputError (a ValueError
+    with .detail, .shape, .face, .vertex) where it is about one shape, face or vertex.
 """
 from ._core import FrameStats, SolverError, threading_info
 from .constants import METHOD_LABELS, METHODS, PLANAR_TOLERANCE
+from .errors import InvalidInputError
 from .distortion import area_ratio, conformal_distortion, flipped_faces
 from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
 from .layers import Layers
@@ -23,5 +25,5 @@ from .plane import Plane
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
-           "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "METHODS",
+           "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
            "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "__version__"]

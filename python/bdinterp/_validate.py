@@ -8,39 +8,50 @@ import numbers
 import numpy as np
 
 from .constants import INT_MAX, PLANAR_TOLERANCE
+from .errors import invalid
 from .layers import Layers
 from .plane import Plane
 
 
-def real_array(x, name):
-    """`x` as a float64 array; ValueError naming `name` for ragged, complex or non-numeric input."""
+def _error(detail, name, shape=None, vertex=None):
+    """InvalidInputError at (shape, vertex) when the array is one of the shapes, else a ValueError
+    naming it ("anchor path positions ...")."""
+    if shape is not None:
+        return invalid(detail, shape=shape, vertex=vertex)
+    return ValueError(f"{name}: vertex {vertex} has {detail}" if vertex is not None else f"{name} {detail}")
+
+
+def real_array(x, name, shape=None):
+    """`x` as a float64 array; for ragged, complex or non-numeric input an error naming `name`
+    (InvalidInputError at `shape` when given)."""
     try:
         a = np.asarray(x)
     except ValueError:  # numpy >= 1.24 refuses ragged nested sequences
-        raise ValueError(f"{name} is ragged: its rows have different lengths") from None
+        raise _error("is ragged: its rows have different lengths", name, shape) from None
     if a.dtype.kind == "c":
-        raise ValueError(f"{name} is complex (dtype {a.dtype}); give real coordinates, e.g. "
-                         f"np.c_[z.real, z.imag]")
+        raise _error(f"is complex (dtype {a.dtype}); give real coordinates, e.g. np.c_[z.real, z.imag]",
+                     name, shape)
     if a.dtype.kind == "O":
         try:
             return np.asarray(a, dtype=np.float64)
         except (TypeError, ValueError):
-            raise ValueError(f"{name} must hold real numbers; it holds other objects") from None
+            raise _error("must hold real numbers; it holds other objects", name, shape) from None
     if a.dtype.kind not in "biuf":
-        raise ValueError(f"{name} must hold real numbers, got dtype {a.dtype}")
+        raise _error(f"must hold real numbers, got dtype {a.dtype}", name, shape)
     return np.asarray(a, dtype=np.float64)
 
 
-def coordinates(x, name):
-    """Returns `x` as a float64 (n, 2) or (n, 3) array of finite numbers; ValueError naming `name`."""
-    a = real_array(x, name)
+def coordinates(x, name, shape=None):
+    """Returns `x` as a float64 (n, 2) or (n, 3) array of finite numbers; else an error naming `name`
+    (InvalidInputError at `shape` when given, and at the vertex of a non-finite coordinate)."""
+    a = real_array(x, name, shape)
     if a.ndim != 2 or a.shape[1] not in (2, 3):
-        raise ValueError(f"{name} must be an (n, 2) or (n, 3) array of coordinates, got shape {a.shape}")
+        raise _error(f"must be an (n, 2) or (n, 3) array of coordinates, got shape {a.shape}", name, shape)
     if a.shape[0] == 0:
-        raise ValueError(f"{name} has no vertices")
+        raise _error("has no vertices", name, shape)
     bad = np.flatnonzero(~np.isfinite(a).all(axis=1))
     if bad.size:
-        raise ValueError(f"{name}: vertex {bad[0]} has a non-finite coordinate")
+        raise _error("a non-finite coordinate", name, shape, int(bad[0]))
     return a
 
 
@@ -64,18 +75,17 @@ def faces(f, num_vertices):
     if a is None or a.dtype.kind == "O" or (a.ndim == 2 and a.shape[1] != 3):
         bad = _ragged_face(f)
         if bad is not None:
-            raise ValueError(f"faces must be triangles: face {bad[0]} has {bad[1]} vertices")
+            raise invalid(f"has {bad[1]} vertices: faces must be triangles", face=bad[0])
     if a is None or a.ndim != 2 or a.shape[1] != 3:
         raise ValueError(f"faces must be an (m, 3) array of vertex indices, got "
                          f"{'a ragged list' if a is None else f'shape {a.shape}'}")
     if a.size and not np.issubdtype(a.dtype, np.integer):
         raise ValueError(f"faces must be an integer array, got dtype {a.dtype}")
-    if a.size:
+    if a.size:  # checked here as well as in the core: Layers.fit indexes with the faces first
         low, high = a.min(), a.max()
         if low < 0 or high >= num_vertices:
             bad = np.flatnonzero(((a < 0) | (a >= num_vertices)).any(axis=1))[0]
-            raise ValueError(f"face {bad} has a vertex index out of range [0, {num_vertices}): "
-                             f"{a[bad].tolist()}")
+            raise invalid(f"a vertex index out of range [0, {num_vertices}): {a[bad].tolist()}", face=bad)
     return np.ascontiguousarray(a, dtype=np.int32)
 
 
@@ -130,18 +140,18 @@ def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE, mesh_faces=None):
         shapes = list(shapes)
     if isinstance(shapes, (str, bytes)) or not hasattr(shapes, "__len__"):
         raise ValueError(f"shapes must be a sequence of (n, 2) or (n, 3) arrays, got {shapes!r:.60}")
-    shapes = [coordinates(s, f"shape {i}") for i, s in enumerate(shapes)]
+    shapes = [coordinates(s, f"shape {i}", shape=i) for i, s in enumerate(shapes)]
     if not shapes:
         raise ValueError("need at least one shape")
     base = integer(base, "base", 0, len(shapes) - 1) if len(shapes) else base
     n, d = shapes[0].shape
     for i, s in enumerate(shapes):
         if s.shape != (n, d):
-            raise ValueError(f"shape {i} has shape {s.shape}, shape 0 has {(n, d)}")
+            raise invalid(f"has shape {s.shape}, shape 0 has {(n, d)}", shape=i)
     if d == 2:
         return [np.ascontiguousarray(s) for s in shapes], None, None
     if mesh_faces is None:
         plane = Plane.fit(shapes[base])
-        return [plane.to_plane(s, f"shape {i}", tolerance) for i, s in enumerate(shapes)], plane, None
+        return [plane.to_plane(s, f"shape {i}", tolerance, shape=i) for i, s in enumerate(shapes)], plane, None
     layers = Layers.fit(shapes, faces(mesh_faces, n), base, tolerance)
     return layers.to_plane(shapes), layers.plane, layers

@@ -17,7 +17,5 @@ TOLERANCE = 1e-10
 MAX_ITERATIONS = 50
 THREADS = 0
 
-# The largest value the core's C int options accept (max_iterations), and the most threads
-# (InterpolatorOptions::kMaxThreads: more than a machine has cores only adds overhead).
+# The largest value the core's C int options accept (max_iterations, threads, the anchor vertex).
 INT_MAX = 2 ** 31 - 1
-MAX_THREADS = 1024

@@ -6,7 +6,7 @@ import numpy as np
 
 from . import _core
 from . import _validate
-from .constants import MAX_ITERATIONS, MAX_THREADS, METHODS, THREADS, TOLERANCE
+from .constants import INT_MAX, MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
 
 
 @dataclass
@@ -24,7 +24,7 @@ class AnchorPath:
     angles: np.ndarray
     vertex: Optional[int] = None
 
-    def to_core(self, num_vertices, plane):
+    def to_core(self, plane):
         """The validated _core.Anchor of this path (positions in plane coordinates)."""
         ts = _validate.times(self.ts, "anchor path ts")
         if ts.size == 0 or np.any(np.diff(ts) <= 0):
@@ -41,21 +41,21 @@ class AnchorPath:
             pos = plane.to_plane(pos, "anchor path", tolerance=np.inf)
         elif plane is not None:
             raise ValueError("anchor path positions must be 3D like the shapes")
+        # The range is the core's to check (InvalidInputError at the vertex).
         vertex = -1 if self.vertex is None else _validate.integer(
-            self.vertex, "anchor path vertex", 0, num_vertices - 1)
+            self.vertex, "anchor path vertex", -INT_MAX, INT_MAX)
         return _core.Anchor.along(_core.AnchorPath(ts.tolist(), np.ascontiguousarray(pos),
                                                    angles.tolist()), vertex)
 
 
-def _core_anchor(anchor, num_vertices, plane):
+def _core_anchor(anchor, plane):
     if anchor is None or (isinstance(anchor, str) and anchor == "auto"):
         return _core.Anchor.centroid()
     if isinstance(anchor, (int, np.integer)) and not isinstance(anchor, (bool, np.bool_)):
-        if not 0 <= anchor < num_vertices:
-            raise ValueError(f"anchor vertex {anchor} out of range [0, {num_vertices})")
-        return _core.Anchor.at_vertex(int(anchor))
+        # The range is the core's to check (InvalidInputError at the vertex); only a C int fits.
+        return _core.Anchor.at_vertex(_validate.integer(anchor, "anchor vertex", -INT_MAX, INT_MAX))
     if isinstance(anchor, AnchorPath):
-        return anchor.to_core(num_vertices, plane)
+        return anchor.to_core(plane)
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
 
 
@@ -64,7 +64,8 @@ def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
-    o.threads = _validate.integer(threads, "threads", 0, MAX_THREADS)
+    # The range [0, MAX_THREADS] is the core's to check (one layer); here: an int that fits a C int.
+    o.threads = _validate.integer(threads, "threads", -INT_MAX, INT_MAX)
     for name, value in (("strict", strict), ("folds", folds), ("joints", joints)):
         if not isinstance(value, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False, got {value!r}")
@@ -103,7 +104,7 @@ class Interpolator:
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
         options = _options(base, tol, max_iterations, threads, strict, folds, joints)
-        self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._n, self._plane),
+        self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._plane),
                                         options)
 
     @property

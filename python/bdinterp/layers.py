@@ -6,6 +6,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .constants import PLANAR_TOLERANCE
+from .errors import invalid
 from .plane import Plane, total_signed_area
 
 
@@ -41,9 +42,9 @@ class Layers:
     def fit(cls, shapes, faces, base=0, tolerance=PLANAR_TOLERANCE):
         """The layers of k shapes (n, 3) with faces (m, 3): the least-squares normal of planes
         parallel through each piece of shapes[base] (pieces centred on their own means, one SVD),
-        oriented so that the faces wind counter-clockwise. ValueError naming the shape, the piece
-        (by its lowest vertex) and the worst vertex if a vertex is farther than tolerance x the
-        shape's largest extent from its piece's plane (a piece not planar or not parallel)."""
+        oriented so that the faces wind counter-clockwise. InvalidInputError at the shape and the
+        worst vertex if a vertex is farther than tolerance x the shape's largest extent from its
+        piece's plane (a piece not planar or not parallel)."""
         shapes = [np.asarray(s, dtype=np.float64) for s in shapes]
         labels = piece_labels(len(shapes[base]), faces)
         B = shapes[base]
@@ -54,13 +55,14 @@ class Layers:
         plane = Plane(B.mean(axis=0), vt[:2].copy(), np.cross(vt[0], vt[1]))
         if total_signed_area(plane.to_plane(B, "points", np.inf), faces) < 0:
             plane = plane.flipped()
-        depth = np.stack([cls._depths(plane, labels, X, f"shape {i}", tolerance)
+        depth = np.stack([cls._depths(plane, labels, X, i, tolerance)
                           for i, X in enumerate(shapes)])
         return cls(plane, labels, depth)
 
     @staticmethod
-    def _depths(plane, labels, X, name, tolerance):
-        """(p,) the depth of every piece of X; ValueError as in fit() for a vertex off its plane."""
+    def _depths(plane, labels, X, shape, tolerance):
+        """(p,) the depth of every piece of X, the shape `shape`; InvalidInputError as in fit() for a
+        vertex off its plane."""
         off = (X - plane.origin) @ plane.normal
         order = np.argsort(labels, kind="stable")
         cuts = np.flatnonzero(np.diff(labels[order])) + 1
@@ -69,12 +71,10 @@ class Layers:
         worst = int(np.argmax(miss))
         size = max(float(np.ptp(X, axis=0).max()), np.finfo(float).tiny)
         if miss[worst] > tolerance * size:
-            first = int(np.flatnonzero(labels == labels[worst])[0])
-            raise ValueError(
-                f"{name} is not planar: vertex {worst} is {miss[worst]:.3g} off the plane of its "
-                f"piece (the piece of vertex {first}), which must be parallel to the plane of the "
-                f"base shape's pieces (tolerance {tolerance:g} x size {size:.3g} = "
-                f"{tolerance * size:.3g})")
+            raise invalid(
+                f"not planar: {miss[worst]:.3g} off the plane of its piece, which must be parallel "
+                f"to the plane of the base shape's pieces (tolerance {tolerance:g} x size {size:.3g} "
+                f"= {tolerance * size:.3g})", shape=shape, vertex=worst)
         return depth
 
     def to_plane(self, shapes):

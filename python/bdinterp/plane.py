@@ -4,6 +4,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .constants import PLANAR_TOLERANCE
+from .errors import invalid
 
 
 @dataclass(frozen=True)
@@ -56,19 +57,22 @@ class Plane:
         _, off, size = self.farthest(np.asarray(points, dtype=np.float64))
         return off <= tolerance * size
 
-    def to_plane(self, points, name, tolerance=PLANAR_TOLERANCE):
+    def to_plane(self, points, name, tolerance=PLANAR_TOLERANCE, shape=None):
         """Plane coordinates (n, 2) of points (n, 3).
 
-        ValueError naming `name` and the worst vertex if a point is farther from the plane than
-        tolerance x the points' largest extent (tolerance=np.inf: project without checking).
+        If a point is farther from the plane than tolerance x the points' largest extent
+        (tolerance=np.inf: project without checking): InvalidInputError at `shape` (when the points
+        are that shape) and the worst vertex, else a ValueError naming `name` and the vertex.
         """
         points = np.asarray(points, dtype=np.float64)
         if np.isfinite(tolerance):
             worst, off, size = self.farthest(points)
             if off > tolerance * size:
-                raise ValueError(
-                    f"{name} is not planar: vertex {worst} is {off:.3g} off the plane of the "
-                    f"base shape (tolerance {tolerance:g} x size {size:.3g} = {tolerance * size:.3g})")
+                detail = (f"not planar: {off:.3g} off the plane of the base shape (tolerance "
+                          f"{tolerance:g} x size {size:.3g} = {tolerance * size:.3g})")
+                if shape is not None:
+                    raise invalid(detail, shape=shape, vertex=worst)
+                raise ValueError(f"{name}, vertex {worst}: {detail}")
         return np.ascontiguousarray((points - self.origin) @ self.axes.T)
 
     def to_space(self, uv):

@@ -198,7 +198,7 @@ def test_error_non_planar_key_says_by_how_much(addon):
     bad[5, 2] += 0.05
     add_key(obj, "Bumpy", bad)
     configure(obj, "Bumpy")
-    _unchanged_after_error(obj, r"Strip: key 'Bumpy' is not planar: vertex 5 is 0\.05 off the plane")
+    _unchanged_after_error(obj, r"Strip: key 'Bumpy', vertex 5: not planar: 0\.05 off the plane")
 
 
 def test_error_mesh_without_keys(addon):

@@ -121,8 +121,18 @@ def test_core_errors_name_keys_and_polygons(addon):
     assert text.startswith("Strip: ") and "'Collapsed'" in text and "shape 1" not in text
     # the polygon named is one of the two sharing the collapsed edge (not a triangle index)
     import re
-    named = obj.data.polygons[int(re.search(r"polygon (\d+)", text).group(1))]
+    named = obj.data.polygons[int(re.search(r"^Strip: key 'Collapsed', polygon (\d+): zero area$",
+                                            text).group(1))]
     assert {poly.vertices[0], poly.vertices[1]} <= set(named.vertices)
+
+
+def test_an_anchor_vertex_out_of_range_is_named_by_the_core(addon):
+    """The core alone checks the range (issue #21: one layer); the add-on names the vertex."""
+    obj = bent_strip()
+    n = len(obj.data.vertices)
+    with pytest.raises(ValueError, match=r"^Strip: vertex %d: the anchor vertex is out of range "
+                                         r"\[0, %d\)" % (n, n)):
+        addon.bake(obj, target="Bend", anchor=n)
 
 
 def test_distortion_colours_relative_to_each_face_of_the_inputs(addon, bd):

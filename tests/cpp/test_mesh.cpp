@@ -40,20 +40,20 @@ TEST(Mesh, EdgeCountsFollowEuler) {
 }
 
 TEST(Mesh, RejectsBadIndices) {
-  expect_invalid([] { Mesh(faces({{0, 1, 5}}), 3); }, "face 0 has vertex index 5 out of range");
-  expect_invalid([] { Mesh(faces({{0, 1, 2}, {1, 1, 2}}), 3); }, "face 1 repeats a vertex");
+  expect_invalid([] { Mesh(faces({{0, 1, 5}}), 3); }, "face 0: vertex index 5 out of range");
+  expect_invalid([] { Mesh(faces({{0, 1, 2}, {1, 1, 2}}), 3); }, "face 1: repeats a vertex");
   expect_invalid([] { Mesh(faces({{0, -1, 2}}), 3); }, "out of range");
 }
 
 TEST(Mesh, RejectsNonManifoldEdgeAndOrientation) {
   expect_invalid([] { Mesh(faces({{0, 1, 2}, {1, 0, 3}, {0, 1, 4}}), 5); },
-                 "edge (0, 1) is shared by 3 faces");
+                 "face 0: its edge (0, 1) is shared by 3 faces");
   expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 1, 3}}), 4); }, "orientation is inconsistent");
 }
 
 TEST(Mesh, RejectsBowtieVertex) {
   // Two triangles sharing only vertex 0.
-  expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 3, 4}}), 5); }, "vertex 0 is non-manifold");
+  expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 3, 4}}), 5); }, "vertex 0: non-manifold");
 }
 
 TEST(Mesh, SplitsPiecesAndRejectsHoles) {

@@ -346,7 +346,7 @@ TEST(Robustness, ShapesWhoseSignedAreasCancelAreRejected) {
   folded << 0, 0, 1, 0, 1, 1, 0.9, -0.1;
   Faces F(2, 3);
   F << 0, 1, 2, 0, 2, 3;
-  expect_invalid([&] { Interpolator({ok, folded}, F); }, "shape 1: the signed areas of piece 0");
+  expect_invalid([&] { Interpolator({ok, folded}, F); }, "shape 1, face 0: the signed areas of piece 0");
   expect_invalid([&] { Interpolator({folded, ok}, F); }, "cancel");
 }
 

@@ -46,7 +46,7 @@ def test_plane_tolerance_is_relative_to_the_size():
     Y[5, 2] += 0.5 * bdinterp.PLANAR_TOLERANCE * size
     plane.to_plane(Y, "Y")  # within the default tolerance
     Y[5, 2] += 2 * bdinterp.PLANAR_TOLERANCE * size
-    with pytest.raises(ValueError, match="Y is not planar: vertex 5"):
+    with pytest.raises(ValueError, match="Y, vertex 5: not planar"):
         plane.to_plane(Y, "Y")
     plane.to_plane(Y, "Y", tolerance=1e-3)
 
@@ -127,8 +127,9 @@ def test_frames_options_and_methods_are_checked(bar):
     ({"max_iterations": 0}, r"max_iterations must be an integer in \[1, 2147483647\], got 0"),
     ({"max_iterations": 2.5}, "max_iterations must be an integer, got 2.5"),
     ({"max_iterations": 2 ** 40}, r"max_iterations must be an integer in \[1, "),
-    ({"threads": 2 ** 40}, r"threads must be an integer in \[0, 1024\], got 1099511627776"),
-    ({"threads": -1}, "threads must be an integer in"),
+    ({"threads": 2 ** 40}, r"threads must be an integer in \[-2147483647, 2147483647\], got 1099511627776"),
+    ({"threads": -1}, r"threads must be in \[0, 1024\] \(got -1\)"),  # the core's check (one layer)
+    ({"threads": 1025}, r"threads must be in \[0, 1024\] \(got 1025\)"),
     ({"threads": 1.0}, "threads must be an integer, got 1.0"),
     ({"threads": True}, "threads must be an integer, got True"),
     ({"base": 2}, r"base must be an integer in \[0, 1\], got 2"),
@@ -146,13 +147,13 @@ def test_arrays_are_validated_naming_the_argument(disk):
     ragged_faces = F.tolist()
     ragged_faces[2] = ragged_faces[2] + [0]
     cases = [
-        (lambda: bdinterp.interpolate(V, T + 1j, F, 0.5), "shape 1 is complex"),
-        (lambda: bdinterp.interpolate(V.astype(complex), T, F, 0.5), "shape 0 is complex"),
-        (lambda: bdinterp.interpolate(V, T.astype(str), F, 0.5), "shape 1 must hold real numbers"),
+        (lambda: bdinterp.interpolate(V, T + 1j, F, 0.5), "shape 1: is complex"),
+        (lambda: bdinterp.interpolate(V.astype(complex), T, F, 0.5), "shape 0: is complex"),
+        (lambda: bdinterp.interpolate(V, T.astype(str), F, 0.5), "shape 1: must hold real numbers"),
         (lambda: bdinterp.interpolate(V, [[0, 0]] + [[1, 2, 3]] * (len(V) - 1), F, 0.5),
-         "shape 1 is ragged"),
+         "shape 1: is ragged"),
         (lambda: bdinterp.interpolate(V, T, ragged_faces, 0.5),
-         "faces must be triangles: face 2 has 4 vertices"),
+         "face 2: has 4 vertices: faces must be triangles"),
         (lambda: bdinterp.interpolate(V, T, F.astype(str), 0.5), "faces must be an integer array"),
         (lambda: bdinterp.interpolate(V, T, F + 0j, 0.5), "faces must be an integer array"),
         (lambda: bdinterp.conformal_distortion(V, T + 1j, F), "result is complex"),
@@ -185,7 +186,7 @@ def test_non_finite_t_is_refused_by_every_method(disk, method, t):
     (dict(ts=[0, 1], positions=[[0, 0], [1, np.inf]], angles=[0, 0]), "positions: vertex 1"),
     (dict(ts=[0, 1], positions=[[0, 0]], angles=[0, 0]), "2 ts, 1 positions and 2 angles"),
     (dict(ts=[0, 1], positions=[[0, 0], [1, 1]], angles=[0, 0], vertex=-5),
-     r"anchor path vertex must be an integer in \[0, "),
+     r"the anchor vertex -5 is out of range \[0, "),  # the core checks the range (one layer)
     (dict(ts=[0, 1], positions=[[0, 0], [1, 1]], angles=[0, 0], vertex=1.5),
      "anchor path vertex must be an integer"),
 ])

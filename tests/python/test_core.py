@@ -212,7 +212,7 @@ def test_planar_3d_input_in_any_plane(bar):
     assert np.abs((X3 - origin) @ normal).max() < 1e-12
     bent = T @ B + origin
     bent[7] += 0.01 * normal
-    with pytest.raises(ValueError, match=r"shape 1 is not planar: vertex 7 is 0.01 off"):
+    with pytest.raises(ValueError, match=r"shape 1, vertex 7: not planar: 0.01 off"):
         bdinterp.interpolate(V @ B + origin, bent, F, 0.4)
 
 
@@ -237,13 +237,13 @@ def test_invalid_input_raises_value_error_naming_the_culprit(disk):
     V, F = disk
     T = meshes.apply_map("phi1", V)
     cases = [
-        (lambda: bdinterp.interpolate(V, T[:-1], F, 0.5), "shape 1 has shape"),
+        (lambda: bdinterp.interpolate(V, T[:-1], F, 0.5), "shape 1: has shape"),
         (lambda: bdinterp.interpolate(V, T, np.vstack([F, [[0, 1, len(V)]]]), 0.5),
-         rf"face {len(F)} has a vertex index out of range"),
+         rf"face {len(F)}: a vertex index out of range"),
         (lambda: bdinterp.interpolate(V, T, np.vstack([F, [[4, 4, 5]]]), 0.5), "repeats a vertex"),
         (lambda: bdinterp.interpolate(V, T, F.astype(float), 0.5), "integer"),
         (lambda: bdinterp.interpolate(V, np.where(np.arange(len(V))[:, None] == 9, np.nan, T), F, 0.5),
-         "shape 1: vertex 9 has a non-finite coordinate"),
+         "shape 1, vertex 9: a non-finite coordinate"),
         (lambda: bdinterp.interpolate(V, T, F, np.nan), "t must be finite"),
         (lambda: bdinterp.blend([V, T], F, [0.5, 0.6]), "sum to 1"),
         (lambda: bdinterp.interpolate(V, T, F, 0.5, anchor=len(V)), "anchor vertex"),
@@ -261,8 +261,9 @@ def test_topology_errors(disk):
     # every face holding both vertices collapses; the message names the first (which depends on
     # how this scipy's Delaunay numbered the faces)
     first = min(f for f in range(len(F)) if {F[5, 0], F[5, 2]} <= set(F[f]))
-    with pytest.raises(ValueError, match=r"face %d \(vertices .*\) has zero area" % first):
+    with pytest.raises(ValueError, match=r"shape 0, face %d: zero area" % first) as info:
         bdinterp.interpolate(collapsed, V, F, 0.5)
+    assert (info.value.shape, info.value.face, info.value.vertex) == (0, first, None)
     extra = np.vstack([F, F[:1]])  # a duplicated face makes three faces share its edges
     with pytest.raises(ValueError, match="shared by 3 faces|same direction"):
         bdinterp.interpolate(V, V, extra, 0.5)
@@ -275,8 +276,9 @@ def test_extrapolation_that_breaks_the_metric_is_a_value_error(disk):
     V, F = disk
     T = V * [3.0, 0.3]
     assert np.isfinite(bdinterp.interpolate(V, T, F, 1.05)).all()
-    with pytest.raises(ValueError, match="invalid metric at face"):
+    with pytest.raises(bdinterp.InvalidInputError, match="invalid metric") as info:
         bdinterp.interpolate(V, T, F, -2.0)
+    assert 0 <= info.value.face < len(F) and str(info.value) == f"face {info.value.face}: {info.value.detail}"
 
 
 def test_solver_error_is_a_runtime_error(disk):

@@ -80,7 +80,7 @@ def test_a_shape_that_turns_as_a_whole_still_turns(body, pose):
 def test_mirror_image_target_is_refused(body):
     V, F, shoulder, torso, size = body
     mirrored = V * [-1.0, 1.0]
-    with pytest.raises(ValueError, match=rf"shape 1 is a mirror image of shape 0: {len(F)} of {len(F)} faces"):
+    with pytest.raises(ValueError, match=rf"shape 1: a mirror image of the base shape: {len(F)} of {len(F)} faces"):
         bdinterp.Interpolator([V, mirrored], F)
     with pytest.raises(ValueError, match="mirror image"):
         bdinterp.interpolate(V, POSES["arm swung 90"](V, shoulder) * [1.0, -1.0], F, 0.5)

@@ -1,5 +1,5 @@
 // Baseline interpolation methods the paper compares against (Sec. 6.3), with the same calling shape
-// as bdinterp::interpolate so results can be compared face by face.
+// as Interpolator::at so results can be compared face by face.
 #pragma once
 
 #include <memory>

@@ -12,8 +12,11 @@
 
 namespace bdinterp {
 
-class FoldFill;
-class Joints;
+namespace detail {
+struct PiecePlan;    // piece_solver.h
+class PieceSolver;   // piece_solver.h
+class FramePasses;   // frame_passes.h
+}  // namespace detail
 
 struct InterpolatorOptions {
   FlattenOptions flatten;
@@ -89,7 +92,8 @@ class Interpolator {
   // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
   Positions blend(const Eigen::VectorXd& w);
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
-  // The sequence is cut into contiguous chunks solved in parallel (see InterpolatorOptions::threads);
+  // The sequence is cut into contiguous chunks solved on the pool (parallel.h; serially while it
+  // judges the machine busy, with the same chunks and results; see InterpolatorOptions::threads);
   // each frame is warm-started from the frames before it in its chunk. Afterwards last_stats()
   // merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
@@ -105,7 +109,8 @@ class Interpolator {
   // reused), with the thread settings of a frame. Leaves the warm-start history untouched but
   // invalidates reusable factorisations.
   double floor_seconds(int repeats = 5);
-  // options().threads, for the bindings' `threads` property (InvalidInput outside [0, kMaxThreads]).
+  // Sets options().threads (InvalidInput outside [0, kMaxThreads]) for the calls after it: for C++
+  // benchmarks and fuzzers. Python's `threads` property is read-only (threads= of the constructor).
   void set_threads(int n);
   int threads() const;
   const InterpolatorOptions& options() const { return options_; }
@@ -122,36 +127,27 @@ class Interpolator {
   std::vector<JointInfo> joints() const;
 
  private:
-  struct PiecePlan;
-  struct Workspace;
   // The shapes moved and scaled to unit size (sets offset_, scale_), validated.
   std::vector<Positions> normalise(const std::vector<Positions>& shapes, const Mesh& mesh);
   void check_weights(const Eigen::VectorXd& w) const;
+  // Solvers for `workers` workers, workers 1, 2, ... continuing from worker 0's history.
   void prepare_workers(int workers);
-  // One frame into out (in the caller's coordinates); `worker` selects the workspaces.
+  // One frame into out (in the caller's coordinates): every piece, then the frame passes; `worker`
+  // selects the piece solvers.
   FrameStats solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker);
-  // Flags (or, strict, raises on) broken triangles and a large flatness residual in st.
-  void self_check(FrameStats& st, const Eigen::VectorXd& w) const;
 
   int num_shapes_ = 0, num_vertices_ = 0;
   Anchor anchor_;  // in the normalised frame
   InterpolatorOptions options_;
   Eigen::RowVector2d offset_;  // caller's = scale_ * normalised + offset_
   double scale_ = 1;
-  std::vector<std::unique_ptr<const PiecePlan>> plans_;
-  // workers_[k][p]: worker k's workspace for piece p (worker 0 serves at/blend and keeps history).
-  std::vector<std::vector<std::unique_ptr<Workspace>>> workers_;
-  std::vector<int> isolated_;
+  std::vector<std::unique_ptr<const detail::PiecePlan>> plans_;
+  // workers_[k][p]: worker k's solver of piece p (worker 0 serves at/blend and keeps history).
+  std::vector<std::vector<std::unique_ptr<detail::PieceSolver>>> workers_;
   std::vector<std::vector<int>> folded_;  // per shape: folded_faces
-  std::unique_ptr<const FoldFill> folds_;  // set when an input folds: the fill of its fold region
-  std::unique_ptr<const Joints> joints_;   // set when options.joints: the joints between pieces
-  std::vector<Positions> isolated_positions_;  // per shape: the isolated vertices' positions
+  std::unique_ptr<const detail::FramePasses> passes_;  // joints, isolated vertices, fold fill, ...
   FrameStats stats_;
   mutable std::mutex mutex_;
 };
-
-// One-off: interpolate between two shapes at t (builds and discards an Interpolator).
-Positions interpolate(const Positions& source, const Positions& target, const Faces& F, double t,
-                      const Anchor& anchor = {});
 
 }  // namespace bdinterp

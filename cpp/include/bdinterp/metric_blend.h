@@ -13,8 +13,9 @@ namespace bdinterp {
 Eigen::VectorXd squared_edge_lengths(const Mesh& mesh, const Positions& X);
 
 // Checks that X (#V by 2) is finite and no face of `mesh` is collapsed (|area| <= 1e-12 times its
-// longest edge squared). `what` names the shape in the message, e.g. "shape 1".
-void check_shape(const Mesh& mesh, const Positions& X, const std::string& what);
+// longest edge squared). Throws InvalidInput at `shape` (the index the caller knows X by) and the
+// vertex or face.
+void check_shape(const Mesh& mesh, const Positions& X, int shape);
 
 // Blended metric sum_i w_i * l2[i] (#E). Weights may extrapolate (negative entries) as long as every
 // face of the result is a valid Euclidean triangle; otherwise throws InvalidInput naming the face.
