@@ -1,11 +1,16 @@
 // Pieces with holes (holes.h): the reduced CETM energy, its gradient (angle conditions at interior
-// vertices and the total turning of each hole) and the least-squares layout.
+// vertices and the total turning of each hole) and Hessian in the disks' Flattener with the holes'
+// unknowns, the period closure and the least-squares layout.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <random>
+#include <vector>
 
+#include "bdinterp/flatten.h"
 #include "bdinterp/holes.h"
 #include "bdinterp/metric_blend.h"
 #include "test_meshes.h"
@@ -76,6 +81,50 @@ TEST(Holes, GradientIsTheDerivativeOfTheEnergyInTheReducedUnknowns) {
     const double fd = (solver.energy(l2, up) - solver.energy(l2, um)) / (2 * h);
     EXPECT_NEAR(fd, g[k], 1e-6) << "unknown " << k;
   }
+}
+
+// The Flattener over the holes' unknowns (as HoleSolver builds them, with a dipole offset along the
+// hole): its Hessian is the derivative of its gradient, loop row and column included, although the
+// hole's own edges (both ends one unknown) add nothing to it.
+TEST(Holes, FlattenerHessianOverAHoleIsTheDerivativeOfItsGradient) {
+  const Annulus a = annulus(4, 16);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  HoleSolver solver(mesh, a.V);
+  FlattenUnknowns unknowns;
+  for (int v = 0; v < mesh.num_vertices(); ++v) unknowns.of_vertex.push_back(solver.unknown(v));
+  const int hole_unknown = solver.unknown(solver.hole(0)[0]);
+  unknowns.target.assign(hole_unknown + 1, 2 * kPi);
+  unknowns.target[hole_unknown] = (16 + 2) * kPi;
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns));
+  ASSERT_EQ(fl.num_interior(), hole_unknown + 1);
+  Eigen::VectorXd l2 = squared_edge_lengths(mesh, a.V);
+  for (int e = 0; e < l2.size(); ++e) l2[e] *= 1.0 + 0.1 * std::sin(3.0 * e);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(a.V.rows());
+  for (int v = 0; v < u.size(); ++v)
+    if (solver.unknown(v) >= 0) u[v] = 0.05 * std::cos(solver.unknown(v));
+  for (size_t i = 0; i < solver.hole(0).size(); ++i) u[solver.hole(0)[i]] += 0.02 * std::sin(0.4 * i);
+  const Eigen::MatrixXd H = Eigen::MatrixXd(fl.hessian(l2, u));
+  const std::vector<int>& vertex = fl.pattern().vertex;
+  for (int k : {0, 7, hole_unknown}) {
+    const double h = 1e-6;
+    Eigen::VectorXd up = u, um = u;
+    for (int v = 0; v < u.size(); ++v)
+      if (solver.unknown(v) == k) up[v] += h, um[v] -= h;
+    const Eigen::VectorXd fd = (fl.gradient(l2, up) - fl.gradient(l2, um)) / (2 * h);
+    double worst = 0;
+    for (int j = 0; j < fl.num_interior(); ++j) worst = std::max(worst, std::abs(fd[vertex[j]] - H(vertex[j], vertex[k])));
+    EXPECT_LT(worst, 1e-6) << "unknown " << k;
+    EXPECT_GT(H(vertex[k], vertex[k]), 0.1) << "unknown " << k;
+  }
+  // interior_unknowns numbers the vertices and lays out the pattern as interior_pattern() does.
+  std::vector<int> cp1, r1, cp2, r2;
+  const InteriorPattern p1 = interior_pattern(mesh, cp1, r1);
+  const FlattenUnknowns inner = interior_unknowns(mesh);
+  const InteriorPattern p2 = unknowns_pattern(mesh, inner.of_vertex, static_cast<int>(inner.target.size()), cp2, r2);
+  EXPECT_EQ(p1.vertex, p2.vertex);
+  EXPECT_EQ(p1.edge_pos, p2.edge_pos);
+  EXPECT_EQ(cp1, cp2);
+  EXPECT_EQ(r1, r2);
 }
 
 TEST(Holes, SolvesABlendAndClosesTheLayoutAroundTheHole) {
