@@ -2,6 +2,7 @@
 // closure of their translation periods by Newton on the dipoles around the convex solves.
 #include "bdinterp/holes.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <algorithm>
@@ -153,6 +154,23 @@ void HoleSolver::set_dipole_shapes(const Eigen::VectorXd& l2) {
   }
 }
 
+Eigen::VectorXd HoleSolver::fit_dipoles(Eigen::VectorXd& u) const {
+  Eigen::VectorXd ab = Eigen::VectorXd::Zero(2 * num_holes());
+  for (int k = 0; k < num_holes(); ++k) {
+    const std::vector<int>& loop = loops_[k];
+    Eigen::MatrixX3d basis(loop.size(), 3);
+    Eigen::VectorXd along(loop.size());
+    for (size_t i = 0; i < loop.size(); ++i) {
+      basis.row(i) << 1.0, loop_xy_[k](i, 0), loop_xy_[k](i, 1);
+      along[i] = u[loop[i]];
+    }
+    const Eigen::Vector3d c = (basis.transpose() * basis).ldlt().solve(basis.transpose() * along);
+    ab.segment<2>(2 * k) = c.tail<2>();
+    for (int v : loop) u[v] = c[0];  // with dipole_ = 0, set_dipoles adds the profile to c
+  }
+  return ab;
+}
+
 void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
   for (int k = 0; k < num_holes(); ++k) {
     const std::vector<int>& loop = loops_[k];
@@ -182,7 +200,7 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
   return J;
 }
 
-void HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+bool HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                                FlattenReport& report) {
   const int m = 2 * num_holes();
   Eigen::VectorXd period = solved_periods(), ab = dipole_;
@@ -190,7 +208,7 @@ void HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
   // rule; it is recomputed by finite differences when missing or when a step fails to halve the
   // periods. Closed to tolerance * refinement like the flattening; the loop ends at the accuracy
   // the periods allow (a fresh Jacobian's step that does not halve them).
-  bool fresh = false;
+  bool fresh = false, at_u = true;
   const double aim = options.tolerance * options.refinement;
   for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
     if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, report), fresh = true;
@@ -199,6 +217,7 @@ void HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
     set_dipoles(ab, u);
     convex_solve(l2, u, options, report);
     const Eigen::VectorXd next = solved_periods();
+    at_u = true;
     const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
     if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
     if (halved) {
@@ -207,9 +226,11 @@ void HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
     } else {
       jacobian_ = dipole_jacobian(l2, u, next, options, report);
       fresh = true;
+      at_u = false;
     }
     period = next;
   }
+  return at_u;
 }
 
 HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
@@ -219,20 +240,20 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
   for (int v = 0; v < nv; ++v)
     if (unknown(v) < 0) u[v] = 0.0;
-  for (int k = 0; k < num_holes(); ++k)
-    for (int v : loops_[k]) u[v] = u[loops_[k][0]];
-  // The dipoles start from the last solve's (the previous frame on a slider), or from 0 with a cold
-  // start u = 0 (the interpolator's guess at an input, whose own metric closes with zero dipoles:
-  // exact in zero steps).
-  const bool cold = (u.array() == 0.0).all();
-  const Eigen::VectorXd start = dipole_.size() == m && !cold ? dipole_ : Eigen::VectorXd::Zero(m);
-  dipole_.setZero(m);
   set_dipole_shapes(l2);
-  set_dipoles(start, u);
+  // The dipoles start from the guess's profile along each hole (the interpolator extrapolates
+  // solved frames, dipoles included), or from 0 with a cold start u = 0 (the guess at an input,
+  // whose own metric closes with zero dipoles: exact in zero steps).
+  dipole_.setZero(m);
+  set_dipoles(fit_dipoles(u), u);
   HolesReport rep;
   convex_solve(l2, u, options, rep.flatten);
-  close_periods(l2, u, options, rep.flatten);
-  rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
+  // The last development is reused for the layout when it was of u (one pass over the faces less).
+  if (close_periods(l2, u, options, rep.flatten)) {
+    rep.flatness = lay_out(flattener_.flat_squared_lengths(), developed_, X, rep.closure);
+  } else {
+    rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
+  }
   return rep;
 }
 

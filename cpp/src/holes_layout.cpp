@@ -28,36 +28,33 @@ void HoleSolver::develop(const Eigen::VectorXd& l2, std::vector<std::complex<dou
   const Faces& FE = m.face_edges();
   const Edges& E = m.edges();
   const Edges& EF = m.edge_faces();
-  // Faces placed one after another across a dual spanning tree (walk_, breadth first from face 0):
-  // each child takes its parent's direction of the shared edge, so the rotations are consistent.
-  std::vector<std::array<std::complex<double>, 3>> P(F.rows());
-  auto lengths = [&](int f, double out[3]) {
-    for (int c = 0; c < 3; ++c) out[c] = l2[FE(f, c)];
-  };
-  double fl2[3];
-  lengths(0, fl2);
-  local_triangle(fl2, P[0].data());
-  for (const Mesh::DualStep& step : walk_) {
-    const int f = step.parent, c = step.parent_corner, g = step.face;
-    const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-    std::complex<double> q[3];
-    lengths(g, fl2);
-    local_triangle(fl2, q);
-    int ca = 0, cb = 0;
-    for (int k = 0; k < 3; ++k) {
-      if (F(g, k) == a) ca = k;
-      if (F(g, k) == b) cb = k;
-    }
-    const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
-    const std::complex<double> r = (d / ld) / std::abs(d / ld);
-    for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
+  const int nf = static_cast<int>(F.rows());
+  // Each face in its own frame, then rotations across a dual spanning tree (walk_, breadth first
+  // from face 0): a child turns by its parent's rotation times the unit turn taking the shared edge
+  // as the child sees it (run the other way) to the edge as the parent sees it. Only that product
+  // is serial; the turns' square roots are not on its chain (they were most of a warm frame).
+  std::vector<std::array<std::complex<double>, 3>>& q = local_;
+  std::vector<std::complex<double>>& R = rotation_;
+  q.resize(nf);
+  R.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
+    local_triangle(fl2, q[f].data());
+  }
+  R[0] = 1.0;
+  for (const Mesh::DualStep& st : walk_) {
+    const int c = st.parent_corner, k = st.face_corner;
+    const std::complex<double> hf = q[st.parent][(c + 2) % 3] - q[st.parent][(c + 1) % 3];
+    const std::complex<double> hg = q[st.face][(k + 1) % 3] - q[st.face][(k + 2) % 3];
+    const std::complex<double> z = hf * std::conj(hg);
+    R[st.face] = R[st.parent] * (z / std::sqrt(std::norm(z)));
   }
   // Every edge's vector E(e,0) -> E(e,1), averaged over its faces.
   d.assign(E.rows(), 0.0);
-  for (int f = 0; f < F.rows(); ++f) {
+  for (int f = 0; f < nf; ++f) {
     for (int c = 0; c < 3; ++c) {
       const int e = FE(f, c), a = F(f, (c + 1) % 3);
-      const std::complex<double> h = P[f][(c + 2) % 3] - P[f][(c + 1) % 3];
+      const std::complex<double> h = R[f] * (q[f][(c + 2) % 3] - q[f][(c + 1) % 3]);
       d[e] += (a == E(e, 0) ? h : -h) * (EF(e, 1) >= 0 ? 0.5 : 1.0);
     }
   }
@@ -85,11 +82,20 @@ Eigen::VectorXd HoleSolver::periods_of(const std::vector<std::complex<double>>& 
   return out;
 }
 
+Eigen::VectorXd HoleSolver::solved_periods() {
+  develop(flattener_.flat_squared_lengths(), developed_);
+  return periods_of(developed_);
+}
+
 double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
+  develop(l2, developed_);
+  return lay_out(l2, developed_, X, closure);
+}
+
+double HoleSolver::lay_out(const Eigen::VectorXd& l2, const std::vector<std::complex<double>>& d, Positions& X,
+                           std::vector<double>& closure) {
   const Mesh& m = *mesh_;
   const Edges& E = m.edges();
-  std::vector<std::complex<double>> d;
-  develop(l2, d);
   const Eigen::VectorXd p = periods_of(d);
   closure.resize(num_holes());
   for (int k = 0; k < num_holes(); ++k) closure[k] = std::hypot(p[2 * k], p[2 * k + 1]);

@@ -17,6 +17,7 @@
 // by least squares; the remaining period is reported per hole, relative to the loop's length.
 #pragma once
 
+#include <array>
 #include <complex>
 #include <memory>
 #include <utility>
@@ -86,21 +87,28 @@ class HoleSolver {
   // The convex solve for the unknowns at fixed dipoles (the Flattener), its work added to report.
   void convex_solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                     FlattenReport& report);
-  // The periods of the last convex solve's flat lengths.
-  Eigen::VectorXd solved_periods() const { return periods(flattener_.flat_squared_lengths()); }
+  // The periods of the last convex solve's flat lengths, developed into developed_.
+  Eigen::VectorXd solved_periods();
   // The dipoles' shape on each hole (loop_xy_) from the blended lengths l2.
   void set_dipole_shapes(const Eigen::VectorXd& l2);
+  // The dipoles (a_k, b_k at 2k, 2k + 1) of u's least-squares fit c_k + a_k cos s + b_k sin s along
+  // each hole (loop_xy_ set); u along hole k is set to c_k.
+  Eigen::VectorXd fit_dipoles(Eigen::VectorXd& u) const;
   // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
   void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
-  // Newton on the dipoles from the solved u until the periods are closed (holes.cpp).
-  void close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+  // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns
+  // whether developed_ and the Flattener's flat lengths are still those of u.
+  bool close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                      FlattenReport& report);
   // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
   void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
   Eigen::VectorXd periods_of(const std::vector<std::complex<double>>& d) const;
+  // layout() from the edge vectors d that develop(l2, d) gave.
+  double lay_out(const Eigen::VectorXd& l2, const std::vector<std::complex<double>>& d, Positions& X,
+                 std::vector<double>& closure);
   void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
   void factorize_layout();     // layout_ from layout_values_
 
@@ -120,6 +128,10 @@ class HoleSolver {
   std::vector<double> layout_values_;        // its values
   std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
   int pinned_ = 0;
+  std::vector<std::complex<double>> developed_;  // the edge vectors of the last solved_periods()
+  // develop()'s scratch: each face in its own frame, and its rotation.
+  mutable std::vector<std::array<std::complex<double>, 3>> local_;
+  mutable std::vector<std::complex<double>> rotation_;
 };
 
 }  // namespace bdinterp
