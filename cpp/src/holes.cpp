@@ -72,6 +72,15 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
         if (E0(e, 0) == b || E0(e, 1) == b) loop_edges_.back().push_back({e, E0(e, 0) == a ? 1.0 : -1.0});
     }
   }
+  // Each inner loop's face corners, for its vertices' angles (periods()).
+  std::vector<int> owner(piece.num_vertices(), -1), position(piece.num_vertices(), -1);
+  for (int k = 0; k < num_holes(); ++k)
+    for (size_t i = 0; i < loops_[k].size(); ++i) owner[loops_[k][i]] = k, position[loops_[k][i]] = static_cast<int>(i);
+  loop_corners_.resize(loops_.size());
+  const Faces& F = piece.faces();
+  for (int f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
   build_layout_system();
@@ -108,7 +117,8 @@ void HoleSolver::factorize_layout() {
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_),
+    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), loop_edges_(o.loop_edges_),
+      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_),
       dipole_(o.dipole_), plan_(o.plan_), flattener_(o.plan_), layout_analysis_(o.layout_analysis_),
       layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_) {
   factorize_layout();
@@ -248,12 +258,8 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   set_dipoles(fit_dipoles(u), u);
   HolesReport rep;
   convex_solve(l2, u, options, rep.flatten);
-  // The last development is reused for the layout when it was of u (one pass over the faces less).
-  if (close_periods(l2, u, options, rep.flatten)) {
-    rep.flatness = lay_out(flattener_.flat_squared_lengths(), developed_, X, rep.closure);
-  } else {
-    rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
-  }
+  const bool at_u = close_periods(l2, u, options, rep.flatten);
+  rep.flatness = layout(at_u ? flattener_.flat_squared_lengths() : scale_lengths(*mesh_, l2, u), X, rep.closure);
   return rep;
 }
 

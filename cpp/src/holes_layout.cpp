@@ -1,11 +1,12 @@
-// The layout of a piece with holes (holes.h): faces developed across a dual spanning tree, the
-// holes' translation periods, and the least-squares fit of all edge vectors.
+// The layout of a piece with holes (holes.h): the holes' translation periods, faces developed
+// across a dual spanning tree, and the least-squares fit of all edge vectors.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
 
 #include "bdinterp/holes.h"
+#include "bdinterp/triangle.h"
 
 namespace bdinterp {
 namespace {
@@ -61,20 +62,27 @@ void HoleSolver::develop(const Eigen::VectorXd& l2, std::vector<std::complex<dou
 }
 
 Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
-  std::vector<std::complex<double>> d;
-  develop(l2, d);
-  return periods_of(d);
-}
-
-Eigen::VectorXd HoleSolver::periods_of(const std::vector<std::complex<double>>& d) const {
-  // Translation period of each hole: its edge vectors summed along the loop, over its length.
+  const Faces& FE = mesh_->face_edges();
   Eigen::VectorXd out(2 * num_holes());
+  std::vector<double> angle;
   for (int k = 0; k < num_holes(); ++k) {
+    const size_t n = loops_[k].size();
+    angle.assign(n, 0.0);
+    for (const auto& [i, f, c] : loop_corners_[k]) {
+      const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
+      double a[3];
+      triangle_angles(fl2, a);
+      angle[i] += a[c];
+    }
+    // Edge i runs from loop[i] to loop[i + 1]; the direction turns at loop[i + 1]. (Walking the
+    // other way conjugates every period: the closure and the Newton on it do not see the difference.)
     std::complex<double> gap = 0;
-    double length = 0;
-    for (const auto& [e, sign] : loop_edges_[k]) {
-      gap += sign * d[e];
-      length += std::abs(d[e]);
+    double length = 0, direction = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double l = std::sqrt(l2[loop_edges_[k][i].first]);
+      gap += std::polar(l, direction);
+      length += l;
+      direction += kPi - angle[(i + 1) % n];
     }
     out[2 * k] = gap.real() / length;
     out[2 * k + 1] = gap.imag() / length;
@@ -82,23 +90,22 @@ Eigen::VectorXd HoleSolver::periods_of(const std::vector<std::complex<double>>& 
   return out;
 }
 
-Eigen::VectorXd HoleSolver::solved_periods() {
-  develop(flattener_.flat_squared_lengths(), developed_);
-  return periods_of(developed_);
-}
-
 double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
-  develop(l2, developed_);
-  return lay_out(l2, developed_, X, closure);
-}
-
-double HoleSolver::lay_out(const Eigen::VectorXd& l2, const std::vector<std::complex<double>>& d, Positions& X,
-                           std::vector<double>& closure) {
   const Mesh& m = *mesh_;
   const Edges& E = m.edges();
-  const Eigen::VectorXd p = periods_of(d);
+  std::vector<std::complex<double>>& d = developed_;
+  develop(l2, d);
+  // The gap of the developed loop (the same period as periods() up to the flattening's residual).
   closure.resize(num_holes());
-  for (int k = 0; k < num_holes(); ++k) closure[k] = std::hypot(p[2 * k], p[2 * k + 1]);
+  for (int k = 0; k < num_holes(); ++k) {
+    std::complex<double> gap = 0;
+    double length = 0;
+    for (const auto& [e, sign] : loop_edges_[k]) {
+      gap += sign * d[e];
+      length += std::abs(d[e]);
+    }
+    closure[k] = std::abs(gap) / length;
+  }
   // Least-squares fit of all edge vectors, the pinned vertex at the origin.
   const int rows = layout_->size();
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * rows);

@@ -83,6 +83,16 @@ TEST(Holes, GradientIsTheDerivativeOfTheEnergyInTheReducedUnknowns) {
   }
 }
 
+// The unknowns of a one-hole solver's Flattener, written out: 2 pi inside, (n + 2) pi on the hole.
+FlattenUnknowns unknowns_of(const HoleSolver& solver, const Mesh& mesh) {
+  FlattenUnknowns unknowns;
+  for (int v = 0; v < mesh.num_vertices(); ++v) unknowns.of_vertex.push_back(solver.unknown(v));
+  const int hole_unknown = solver.unknown(solver.hole(0)[0]);
+  unknowns.target.assign(hole_unknown + 1, 2 * kPi);
+  unknowns.target[hole_unknown] = (static_cast<double>(solver.hole(0).size()) + 2) * kPi;
+  return unknowns;
+}
+
 // The Flattener over the holes' unknowns (as HoleSolver builds them, with a dipole offset along the
 // hole): its Hessian is the derivative of its gradient, loop row and column included, although the
 // hole's own edges (both ends one unknown) add nothing to it.
@@ -90,12 +100,8 @@ TEST(Holes, FlattenerHessianOverAHoleIsTheDerivativeOfItsGradient) {
   const Annulus a = annulus(4, 16);
   const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
   HoleSolver solver(mesh, a.V);
-  FlattenUnknowns unknowns;
-  for (int v = 0; v < mesh.num_vertices(); ++v) unknowns.of_vertex.push_back(solver.unknown(v));
   const int hole_unknown = solver.unknown(solver.hole(0)[0]);
-  unknowns.target.assign(hole_unknown + 1, 2 * kPi);
-  unknowns.target[hole_unknown] = (16 + 2) * kPi;
-  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns));
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns_of(solver, mesh)));
   ASSERT_EQ(fl.num_interior(), hole_unknown + 1);
   Eigen::VectorXd l2 = squared_edge_lengths(mesh, a.V);
   for (int e = 0; e < l2.size(); ++e) l2[e] *= 1.0 + 0.1 * std::sin(3.0 * e);
@@ -125,6 +131,33 @@ TEST(Holes, FlattenerHessianOverAHoleIsTheDerivativeOfItsGradient) {
   EXPECT_EQ(p1.edge_pos, p2.edge_pos);
   EXPECT_EQ(cp1, cp2);
   EXPECT_EQ(r1, r2);
+}
+
+// The periods the closure drives to zero (intrinsic: turning angles along the hole) are the gap of
+// the developed hole that the layout reports, on a flat metric whose hole does not close (one
+// scale per hole, no dipoles: z -> z + 0.3 z^2 blended half way).
+TEST(Holes, IntrinsicPeriodsAreTheGapOfTheDevelopedHole) {
+  const Annulus a = annulus(8, 48);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  Positions T(a.V.rows(), 2);
+  for (int v = 0; v < T.rows(); ++v) {
+    const std::complex<double> z(a.V(v, 0), a.V(v, 1)), w = z + 0.3 * z * z;
+    T.row(v) << w.real(), w.imag();
+  }
+  HoleSolver solver(mesh, a.V);
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns_of(solver, mesh)));
+  const Eigen::VectorXd l2 = 0.5 * (squared_edge_lengths(mesh, a.V) + squared_edge_lengths(mesh, T));
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  ASSERT_LE(fl.solve(l2, u).residual, 1e-10);
+  const Eigen::VectorXd flat = scale_lengths(mesh, l2, u);
+  const Eigen::VectorXd p = solver.periods(flat);
+  Positions X;
+  std::vector<double> closure;
+  solver.layout(flat, X, closure);
+  EXPECT_GT(closure[0], 1e-3);
+  EXPECT_NEAR(std::hypot(p[0], p[1]), closure[0], 1e-9);
+  // An input's own lengths: both vanish.
+  EXPECT_LT(solver.periods(squared_edge_lengths(mesh, T)).cwiseAbs().maxCoeff(), 1e-13);
 }
 
 TEST(Holes, SolvesABlendAndClosesTheLayoutAroundTheHole) {

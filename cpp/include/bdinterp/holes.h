@@ -78,8 +78,9 @@ class HoleSolver {
 
   // Lays out flat squared lengths l2 (#E): X as above, closure per inner loop; returns flatness.
   double layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure);
-  // The holes' translation periods of flat lengths l2, relative to each loop's length: (re, im) of
-  // hole k at 2k, 2k + 1.
+  // The holes' translation periods of flat lengths l2 (#E), relative to each loop's length: (re, im)
+  // of hole k at 2k, 2k + 1, in a frame along the loop's first edge. Intrinsic: walking the hole, the
+  // direction turns by pi - (the domain's angle) at each vertex (no development of the faces).
   Eigen::VectorXd periods(const Eigen::VectorXd& l2) const;
 
  private:
@@ -87,8 +88,8 @@ class HoleSolver {
   // The convex solve for the unknowns at fixed dipoles (the Flattener), its work added to report.
   void convex_solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                     FlattenReport& report);
-  // The periods of the last convex solve's flat lengths, developed into developed_.
-  Eigen::VectorXd solved_periods();
+  // The periods of the last convex solve's flat lengths.
+  Eigen::VectorXd solved_periods() const { return periods(flattener_.flat_squared_lengths()); }
   // The dipoles' shape on each hole (loop_xy_) from the blended lengths l2.
   void set_dipole_shapes(const Eigen::VectorXd& l2);
   // The dipoles (a_k, b_k at 2k, 2k + 1) of u's least-squares fit c_k + a_k cos s + b_k sin s along
@@ -100,15 +101,11 @@ class HoleSolver {
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
   // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns
-  // whether developed_ and the Flattener's flat lengths are still those of u.
+  // whether the Flattener's flat lengths are still those of u.
   bool close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                      FlattenReport& report);
   // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
   void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
-  Eigen::VectorXd periods_of(const std::vector<std::complex<double>>& d) const;
-  // layout() from the edge vectors d that develop(l2, d) gave.
-  double lay_out(const Eigen::VectorXd& l2, const std::vector<std::complex<double>>& d, Positions& X,
-                 std::vector<double>& closure);
   void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
   void factorize_layout();     // layout_ from layout_values_
 
@@ -116,6 +113,8 @@ class HoleSolver {
   std::vector<Mesh::DualStep> walk_;     // the dual tree develop() places the faces over (from face 0)
   std::vector<std::vector<int>> loops_;  // the inner loops
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
+  // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
+  std::vector<std::vector<std::array<int, 3>>> loop_corners_;
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)
@@ -128,7 +127,7 @@ class HoleSolver {
   std::vector<double> layout_values_;        // its values
   std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
   int pinned_ = 0;
-  std::vector<std::complex<double>> developed_;  // the edge vectors of the last solved_periods()
+  std::vector<std::complex<double>> developed_;  // layout()'s scratch: every edge's vector
   // develop()'s scratch: each face in its own frame, and its rotation.
   mutable std::vector<std::array<std::complex<double>, 3>> local_;
   mutable std::vector<std::complex<double>> rotation_;
