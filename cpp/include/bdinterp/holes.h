@@ -44,15 +44,15 @@ class HoleSolver {
   ~HoleSolver();
   std::unique_ptr<HoleSolver> clone() const;  // own workspaces (shared plans), for another thread
 
-  // Drops the warm-start state (the last dipoles, Jacobian and factorisation): the next solve is cold.
+  // Drops the warm-start state (the Jacobian and the factorisation): the next solve is cold.
   void forget();
   int num_holes() const { return static_cast<int>(loops_.size()); }
   // Vertices of inner loop k in the order of the mesh's boundary loop.
   const std::vector<int>& hole(int k) const { return loops_[k]; }
 
-  // l2: #E blended squared lengths; u: #V initial guess (outer-loop entries ignored; an inner loop
-  // takes its first vertex's value), on output the solution (0 on the outer loop, c_k plus the
-  // dipole terms along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if
+  // l2: #E blended squared lengths; u: #V initial guess (outer-loop entries ignored; along inner
+  // loop k its least-squares fit c_k + a_k cos s + b_k sin s is the start; all zero: a cold start),
+  // on output the solution (0 on the outer loop, c_k plus the dipole terms along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if
   // the tolerance is not reached. Then lays the flat metric out: X (#V by 2) with counter-clockwise
   // faces in an arbitrary rigid frame. The report's work counts (iterations, factorizations, ...)
   // are summed over the convex solves of the closure.
