@@ -1,7 +1,10 @@
 #include "bdinterp/flatten.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <string>
+#include <utility>
 
 #include "detail/flatten_state.h"
 
@@ -41,21 +44,77 @@ Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const
   return out;
 }
 
-FlattenPlan::FlattenPlan(const Mesh& disk) : mesh(disk) {
+FlattenUnknowns interior_unknowns(const Mesh& mesh) {
+  FlattenUnknowns u;
+  u.of_vertex.assign(mesh.num_vertices(), -1);
+  for (int v = 0; v < mesh.num_vertices(); ++v) {
+    if (mesh.is_boundary_vertex(v) || mesh.is_isolated_vertex(v)) continue;
+    u.of_vertex[v] = static_cast<int>(u.target.size());
+    u.target.push_back(2 * kPi);
+  }
+  return u;
+}
+
+InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
+                                 std::vector<int>& col_ptr, std::vector<int>& rows) {
+  InteriorPattern p;
+  p.index = of_vertex;
+  p.vertex.assign(n, -1);
+  for (int v = static_cast<int>(of_vertex.size()) - 1; v >= 0; --v)
+    if (of_vertex[v] >= 0) p.vertex[of_vertex[v]] = v;
+  for (int k = 0; k < n; ++k)
+    if (p.vertex[k] < 0) throw InvalidInput("flatten: unknown " + std::to_string(k) + " has no vertex");
+  const Edges& E = mesh.edges();
+  std::vector<std::vector<std::pair<int, int>>> below(n);  // per column: (row, edge)
+  for (int e = 0; e < E.rows(); ++e) {
+    const int a = of_vertex[E(e, 0)], b = of_vertex[E(e, 1)];
+    if (a >= 0 && b >= 0 && a != b) below[std::min(a, b)].push_back({std::max(a, b), e});
+  }
+  col_ptr.assign(n + 1, 0);
+  rows.clear();
+  p.diag_pos.resize(n);
+  p.edge_pos.assign(E.rows(), -1);
+  for (int j = 0; j < n; ++j) {
+    std::sort(below[j].begin(), below[j].end());
+    p.diag_pos[j] = static_cast<int>(rows.size());
+    rows.push_back(j);
+    for (const auto& [i, e] : below[j]) {
+      if (rows.back() != i) rows.push_back(i);  // several edges may join the same two unknowns
+      p.edge_pos[e] = static_cast<int>(rows.size()) - 1;
+    }
+    col_ptr[j + 1] = static_cast<int>(rows.size());
+  }
+  return p;
+}
+
+FlattenPlan::FlattenPlan(const Mesh& disk) : FlattenPlan(disk, interior_unknowns(disk)) {}
+
+FlattenPlan::FlattenPlan(const Mesh& piece, FlattenUnknowns unknowns) : mesh(piece) {
+  const int n = static_cast<int>(unknowns.target.size());
+  if (static_cast<int>(unknowns.of_vertex.size()) != piece.num_vertices())
+    throw InvalidInput("flatten: of_vertex must have one entry per vertex");
+  for (int k : unknowns.of_vertex)
+    if (k < -1 || k >= n) throw InvalidInput("flatten: unknown " + std::to_string(k) + " out of range");
   std::vector<int> col_ptr, rows;
-  pattern = interior_pattern(disk, col_ptr, rows);
-  const int n = pattern.size(), nnz = static_cast<int>(rows.size());
+  pattern = unknowns_pattern(piece, unknowns.of_vertex, n, col_ptr, rows);
+  target = Eigen::Map<const Eigen::VectorXd>(unknowns.target.data(), n);
+  for (int v = 0; v < piece.num_vertices(); ++v)
+    if (pattern.index[v] >= 0) moved.push_back(v);
+  const int nnz = static_cast<int>(rows.size());
   if (n > 0) analysis = std::make_shared<const CholeskyAnalysis>(n, std::move(col_ptr), std::move(rows));
-  const Faces& F = disk.faces();
-  const Faces& FE = disk.face_edges();
+  const Faces& F = piece.faces();
+  const Faces& FE = piece.face_edges();
   slots.resize(F.rows());
   for (int f = 0; f < F.rows(); ++f) {
     FaceSlots& s = slots[f];
     for (int c = 0; c < 3; ++c) {
       const int i = pattern.index[F(f, c)], p = pattern.edge_pos[FE(f, c)];
+      const int a = pattern.index[F(f, (c + 1) % 3)], b = pattern.index[F(f, (c + 2) % 3)];
       s.edge[c] = FE(f, c);
       s.row[c] = i >= 0 ? i : n;
-      s.diag[c] = i >= 0 ? pattern.diag_pos[i] : nnz;
+      // Both ends one unknown: w + w - 2w = 0, so no term at all.
+      s.end[c][0] = a >= 0 && a != b ? pattern.diag_pos[a] : nnz;
+      s.end[c][1] = b >= 0 && a != b ? pattern.diag_pos[b] : nnz;
       s.off[c] = p >= 0 ? p : nnz;
     }
   }
@@ -180,15 +239,6 @@ bool Flattener::has_reusable_factorization() const { return state_->factor_reusa
 void Flattener::forget() {
   state_->factor_reusable = false;
   state_->policy = State::fresh_policy(*plan_);
-}
-
-Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2, const FlattenOptions& options,
-                        FlattenReport* report) {
-  Flattener fl(disk);
-  Eigen::VectorXd u = Eigen::VectorXd::Zero(disk.num_vertices());
-  const FlattenReport r = fl.solve(l2, u, options);
-  if (report) *report = r;
-  return scale_lengths(disk, l2, u);
 }
 
 }  // namespace bdinterp

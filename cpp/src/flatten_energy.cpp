@@ -16,8 +16,8 @@ using FaceSlots = FlattenPlan::FaceSlots;
 inline void scatter_cotangents(const double cot[3], const FaceSlots& s, double* H) {
   for (int c = 0; c < 3; ++c) {
     const double w = 0.5 * cot[c];
-    H[s.diag[(c + 1) % 3]] += w;
-    H[s.diag[(c + 2) % 3]] += w;
+    H[s.end[c][0]] += w;
+    H[s.end[c][1]] += w;
     H[s.off[c]] -= w;
   }
 }
@@ -106,21 +106,22 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
   });
   double energy = energies.sum();
   const int broken = static_cast<int>(brokens.sum());
-  // Every thread's share of the half-angle sums, into the gradient 2 pi - sum: the chunks' products
+  // Every thread's share of the half-angle sums, into the gradient target - sum: the chunks' products
   // multiplied together, so one arctangent per vertex however many chunks (two took 5 % of a warm
   // 5k frame run serially on a busy machine).
+  const Eigen::VectorXd& target = plan_->target;
   parallel::for_each(threads, n, [&](int, long i) {
     double sum = out.defect[i], re = corner_re_[i], im = corner_im_[i];
     for (int t = 1; t < threads; ++t) {
       sum += sum_parts_.buffer(t, nullptr)[i];
       combine_turns(re, im, sum, re_parts_.buffer(t, nullptr)[i], im_parts_.buffer(t, nullptr)[i]);
     }
-    out.defect[i] = kTwoPi - 2 * (sum + argument(re, im));
+    out.defect[i] = target[i] - 2 * (sum + argument(re, im));
   });
   out.defect[n] = 0;
   if (H) hessian_parts_.add_into(H);
   if (want_energy) {
-    for (int i = 0; i < n; ++i) energy += kTwoPi * u[plan_->pattern.vertex[i]];
+    for (int i = 0; i < n; ++i) energy += target[i] * u[plan_->pattern.vertex[i]];
   }
   out.broken = broken;
   out.energy = energy;

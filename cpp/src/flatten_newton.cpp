@@ -152,18 +152,16 @@ class NewtonDriver {
     s_.hessian_at_cur = true;
   }
 
-  // trial_u = u + fraction * step on the interior, evaluated into trial.
+  // trial_u = u + fraction * step at every vertex with an unknown, evaluated into trial.
   void evaluate_trial(double fraction, bool want_energy) {
-    for (int i = 0; i < n_; ++i) {
-      const int v = s_.plan.pattern.vertex[i];
-      s_.trial_u[v] = u_[v] + fraction * s_.step[i];
-    }
+    const std::vector<int>& index = s_.plan.pattern.index;
+    for (int v : s_.plan.moved) s_.trial_u[v] = u_[v] + fraction * s_.step[index[v]];
     s_.evaluate(l2_, s_.trial_u, want_energy, false, s_.trial);
   }
 
   void accept_trial() {
     u_.swap(s_.trial_u);
-    std::swap(s_.cur, s_.trial);  // trial_u keeps the old u: boundary zeros alike, interior rewritten
+    std::swap(s_.cur, s_.trial);  // trial_u keeps the old u: fixed entries alike, moved ones rewritten
     s_.hessian_at_cur = false;
     rep_.max_broken_triangles = std::max(rep_.max_broken_triangles, s_.cur.broken);
   }

@@ -1,16 +1,14 @@
+// The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener, and the
+// closure of their translation periods by Newton on the dipoles around the convex solves.
 #include "bdinterp/holes.h"
 
+#include <Eigen/Cholesky>
 #include <Eigen/LU>
 
 #include <algorithm>
-#include <array>
 #include <cmath>
-#include <limits>
-#include <sstream>
 
 #include "bdinterp/geometry.h"
-#include "bdinterp/lobachevsky.h"
-#include "bdinterp/triangle.h"
 
 namespace bdinterp {
 namespace {
@@ -20,60 +18,50 @@ namespace {
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
 
-// Lower-triangle compressed-column pattern of a symmetric matrix over n unknowns with the given
-// off-diagonal pairs; position(i, j) finds an entry.
-struct LowerPattern {
-  std::vector<int> col_ptr, rows;
-  LowerPattern(int n, std::vector<std::pair<int, int>> pairs) {
-    for (auto& p : pairs)
-      if (p.first < p.second) std::swap(p.first, p.second);  // (row, col), row > col
-    std::sort(pairs.begin(), pairs.end(), [](const auto& a, const auto& b) {
-      return a.second != b.second ? a.second < b.second : a.first < b.first;
-    });
-    pairs.erase(std::unique(pairs.begin(), pairs.end()), pairs.end());
-    col_ptr.assign(n + 1, 0);
-    size_t k = 0;
-    for (int j = 0; j < n; ++j) {
-      rows.push_back(j);
-      for (; k < pairs.size() && pairs[k].second == j; ++k) rows.push_back(pairs[k].first);
-      col_ptr[j + 1] = static_cast<int>(rows.size());
-    }
-  }
-  int position(int i, int j) const {
-    if (i < j) std::swap(i, j);
-    const auto b = rows.begin() + col_ptr[j], e = rows.begin() + col_ptr[j + 1];
-    return static_cast<int>(std::lower_bound(b, e, i) - rows.begin());
-  }
-};
-
-}  // namespace
-
-HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece), walk_(piece.dual_walk({0})) {
-  const int nv = piece.num_vertices();
+// The inner loops of `piece`: every boundary loop but the one enclosing the largest area in `base`.
+std::vector<std::vector<int>> inner_loops(const Mesh& piece, const Positions& base) {
   std::vector<std::vector<int>> all = piece.boundary_loops();
   if (all.empty()) throw InvalidInput("a piece without boundary cannot be flattened");
   size_t outer = 0;
   for (size_t k = 1; k < all.size(); ++k)
     if (std::abs(loop_area(base, all[k])) > std::abs(loop_area(base, all[outer]))) outer = k;
-  unknown_.assign(nv, -1);
-  std::vector<double> target;
-  for (int v = 0; v < nv; ++v) {
-    if (piece.is_boundary_vertex(v) || piece.is_isolated_vertex(v)) continue;
-    unknown_[v] = n_++;
-    vertex_of_.push_back(v);
-    target.push_back(2 * kPi);
+  all.erase(all.begin() + static_cast<long>(outer));
+  return all;
+}
+
+// One unknown per interior vertex (2 pi) and one per inner loop of n vertices ((n + 2) pi: the
+// hole's boundary turns once); u = 0 on the outer loop.
+FlattenUnknowns hole_unknowns(const Mesh& piece, const std::vector<std::vector<int>>& loops) {
+  FlattenUnknowns u = interior_unknowns(piece);
+  for (const std::vector<int>& loop : loops) {
+    for (int v : loop) u.of_vertex[v] = static_cast<int>(u.target.size());
+    u.target.push_back((static_cast<double>(loop.size()) + 2) * kPi);
   }
-  for (size_t k = 0; k < all.size(); ++k) {
-    if (k == outer) continue;
-    for (int v : all[k]) unknown_[v] = n_;
-    vertex_of_.push_back(all[k][0]);
-    target.push_back((static_cast<double>(all[k].size()) + 2) * kPi);
-    ++n_;
-    loops_.push_back(all[k]);
-  }
+  return u;
+}
+
+// The work of one more convex solve added to `into`; the state measures are the last solve's.
+void add_solve(FlattenReport& into, const FlattenReport& r) {
+  into.iterations += r.iterations;
+  into.line_search_steps += r.line_search_steps;
+  into.factorizations += r.factorizations;
+  into.chord_steps += r.chord_steps;
+  into.residual = r.residual;
+  into.broken_triangles = r.broken_triangles;
+  into.max_broken_triangles = std::max(into.max_broken_triangles, r.max_broken_triangles);
+}
+
+}  // namespace
+
+HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
+    : mesh_(&piece),
+      walk_(piece.dual_walk({0})),
+      loops_(inner_loops(piece, base)),
+      plan_(std::make_shared<const FlattenPlan>(piece, hole_unknowns(piece, loops_))),
+      flattener_(plan_) {
   // Each inner loop's edges in loop order, with +1 where the edge runs E(e,0) -> E(e,1) along it.
   const Edges& E0 = piece.edges();
-  std::vector<std::vector<int>> boundary_edges(nv);
+  std::vector<std::vector<int>> boundary_edges(piece.num_vertices());
   for (int e = 0; e < E0.rows(); ++e)
     if (piece.edge_faces()(e, 1) < 0) boundary_edges[E0(e, 0)].push_back(e), boundary_edges[E0(e, 1)].push_back(e);
   for (const auto& loop : loops_) {
@@ -84,43 +72,18 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base) : mesh_(&piece)
         if (E0(e, 0) == b || E0(e, 1) == b) loop_edges_.back().push_back({e, E0(e, 0) == a ? 1.0 : -1.0});
     }
   }
-  target_ = Eigen::Map<Eigen::VectorXd>(target.data(), n_);
+  // Each inner loop's face corners, for its vertices' angles (periods()).
+  std::vector<int> owner(piece.num_vertices(), -1), position(piece.num_vertices(), -1);
+  for (int k = 0; k < num_holes(); ++k)
+    for (size_t i = 0; i < loops_[k].size(); ++i) owner[loops_[k][i]] = k, position[loops_[k][i]] = static_cast<int>(i);
+  loop_corners_.resize(loops_.size());
+  const Faces& F = piece.faces();
+  for (int f = 0; f < F.rows(); ++f)
+    for (int c = 0; c < 3; ++c)
+      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
-  build_hessian_slots();
   build_layout_system();
-}
-
-void HoleSolver::build_hessian_slots() {
-  // The reduced Hessian: an entry for every edge between different unknowns.
-  const Mesh& piece = *mesh_;
-  const Edges& E = piece.edges();
-  std::vector<std::pair<int, int>> pairs;
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = unknown_[E(e, 0)], b = unknown_[E(e, 1)];
-    if (a >= 0 && b >= 0 && a != b) pairs.push_back({a, b});
-  }
-  const LowerPattern h(n_, pairs);
-  const Faces& F = piece.faces();
-  slot_a_.assign(3 * F.rows(), -1);
-  slot_b_.assign(3 * F.rows(), -1);
-  slot_off_.assign(3 * F.rows(), -1);
-  for (int f = 0; f < F.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) {
-      const int a = unknown_[F(f, (c + 1) % 3)], b = unknown_[F(f, (c + 2) % 3)];
-      if (a >= 0) slot_a_[3 * f + c] = h.position(a, a);
-      if (b >= 0) slot_b_[3 * f + c] = h.position(b, b);
-      // An edge inside one loop adds w + w - 2 w = 0 to that loop's diagonal: no entry at all.
-      if (a >= 0 && b >= 0 && a == b) slot_a_[3 * f + c] = slot_b_[3 * f + c] = -1;
-      if (a >= 0 && b >= 0 && a != b) slot_off_[3 * f + c] = h.position(a, b);
-    }
-  }
-  if (n_ > 0) {
-    hessian_analysis_ = std::make_shared<const CholeskyAnalysis>(n_, h.col_ptr, h.rows);
-    chol_ = std::make_unique<SparseCholesky>(hessian_analysis_);
-  }
-  hvals_.assign(h.rows.size(), 0.0);
-  grad_.resize(n_);
 }
 
 void HoleSolver::build_layout_system() {
@@ -129,26 +92,21 @@ void HoleSolver::build_layout_system() {
   const Edges& E = piece.edges();
   const int nv = piece.num_vertices();
   layout_index_.assign(nv, -1);
-  std::vector<std::pair<int, int>> pairs;
   pinned_ = piece.faces()(0, 0);
   int m = 0;
   for (int v = 0; v < nv; ++v)
     if (v != pinned_ && !piece.is_isolated_vertex(v)) layout_index_[v] = m++;
-  pairs.clear();
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
-    if (a >= 0 && b >= 0) pairs.push_back({a, b});
-  }
-  const LowerPattern g(m, pairs);
-  layout_analysis_ = std::make_shared<const CholeskyAnalysis>(m, g.col_ptr, g.rows);
-  layout_values_.assign(g.rows.size(), 0.0);
+  std::vector<int> col_ptr, rows;
+  const InteriorPattern g = unknowns_pattern(piece, layout_index_, m, col_ptr, rows);
+  layout_values_.assign(rows.size(), 0.0);
   double* L = layout_values_.data();
   for (int e = 0; e < E.rows(); ++e) {
     const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
-    if (a >= 0) L[g.position(a, a)] += 1;
-    if (b >= 0) L[g.position(b, b)] += 1;
-    if (a >= 0 && b >= 0) L[g.position(a, b)] -= 1;
+    if (a >= 0) L[g.diag_pos[a]] += 1;
+    if (b >= 0) L[g.diag_pos[b]] += 1;
+    if (g.edge_pos[e] >= 0) L[g.edge_pos[e]] -= 1;
   }
+  layout_analysis_ = std::make_shared<const CholeskyAnalysis>(m, std::move(col_ptr), std::move(rows));
   factorize_layout();
 }
 
@@ -159,13 +117,10 @@ void HoleSolver::factorize_layout() {
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), unknown_(o.unknown_), vertex_of_(o.vertex_of_),
-      loop_edges_(o.loop_edges_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), target_(o.target_), n_(o.n_),
-      slot_a_(o.slot_a_), slot_b_(o.slot_b_), slot_off_(o.slot_off_),
-      hessian_analysis_(o.hessian_analysis_), layout_analysis_(o.layout_analysis_),
-      layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_),
-      grad_(o.grad_), hvals_(o.hvals_) {
-  if (hessian_analysis_) chol_ = std::make_unique<SparseCholesky>(hessian_analysis_);
+    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), loop_edges_(o.loop_edges_),
+      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_),
+      dipole_(o.dipole_), plan_(o.plan_), flattener_(o.plan_), layout_analysis_(o.layout_analysis_),
+      layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_) {
   factorize_layout();
 }
 
@@ -175,50 +130,55 @@ std::unique_ptr<HoleSolver> HoleSolver::clone() const {
   return std::unique_ptr<HoleSolver>(new HoleSolver(*this));
 }
 
-double HoleSolver::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
-                            bool want_hessian, int* broken) const {
-  const Faces& F = mesh_->faces();
-  const Faces& FE = mesh_->face_edges();
-  grad_ = target_;
-  if (want_hessian) std::fill(hvals_.begin(), hvals_.end(), 0.0);
-  double energy = 0;
-  *broken = 0;
-  for (int f = 0; f < F.rows(); ++f) {
-    double fl2[3], angle[3], cot[3];
-    for (int c = 0; c < 3; ++c) {
-      const int e = FE(f, c);
-      fl2[c] = l2[e] * std::exp(u[F(f, (c + 1) % 3)] + u[F(f, (c + 2) % 3)]);
-    }
-    *broken += triangle_angles(fl2, angle, cot) ? 1 : 0;
-    for (int c = 0; c < 3; ++c) {
-      const int k = unknown_[F(f, c)];
-      if (k >= 0) grad_[k] -= angle[c];
-      if (want_energy) {
-        const double lambda = std::log(fl2[c]);
-        energy += angle[c] * lambda + 2 * lobachevsky(angle[c]) - 0.5 * kPi * lambda;
-      }
-      if (!want_hessian) continue;
-      const double w = 0.5 * cot[c];
-      const int s = 3 * f + c;
-      if (slot_a_[s] >= 0) hvals_[slot_a_[s]] += w;
-      if (slot_b_[s] >= 0) hvals_[slot_b_[s]] += w;
-      if (slot_off_[s] >= 0) hvals_[slot_off_[s]] -= w;
+void HoleSolver::forget() {
+  dipole_.resize(0);
+  jacobian_.resize(0, 0);
+  flattener_.forget();
+}
+
+double HoleSolver::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) { return flattener_.energy(l2, u); }
+
+Eigen::VectorXd HoleSolver::gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
+  const Eigen::VectorXd g = flattener_.gradient(l2, u);
+  return g(plan_->pattern.vertex);  // unknown k's entry sits at its vertex
+}
+
+void HoleSolver::convex_solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+                              FlattenReport& report) {
+  add_solve(report, flattener_.solve(l2, u, options));
+}
+
+void HoleSolver::set_dipole_shapes(const Eigen::VectorXd& l2) {
+  // cos and sin of the arc-length angle in the blended metric: intrinsic, so that the pair reversed
+  // gives the same frames (base coordinates would not).
+  for (int k = 0; k < num_holes(); ++k) {
+    const auto& edges = loop_edges_[k];
+    Eigen::VectorXd s(edges.size() + 1);
+    s[0] = 0;
+    for (size_t i = 0; i < edges.size(); ++i) s[i + 1] = s[i] + std::sqrt(l2[edges[i].first]);
+    loop_xy_[k].resize(edges.size(), 2);
+    for (size_t i = 0; i < edges.size(); ++i) {
+      const double angle = 2 * kPi * s[i] / s[edges.size()];
+      loop_xy_[k].row(i) << std::cos(angle), std::sin(angle);
     }
   }
-  if (want_energy)
-    for (int k = 0; k < n_; ++k) energy += target_[k] * u[vertex_of_[k]];
-  return energy;
 }
 
-double HoleSolver::energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  int broken = 0;
-  return evaluate(l2, u, true, false, &broken);
-}
-
-Eigen::VectorXd HoleSolver::gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const {
-  int broken = 0;
-  evaluate(l2, u, false, false, &broken);
-  return grad_;
+Eigen::VectorXd HoleSolver::fit_dipoles(Eigen::VectorXd& u) const {
+  Eigen::VectorXd ab = Eigen::VectorXd::Zero(2 * num_holes());
+  for (int k = 0; k < num_holes(); ++k) {
+    const std::vector<int>& loop = loops_[k];
+    Eigen::MatrixX3d basis(loop.size(), 3);
+    Eigen::VectorXd along(loop.size());
+    for (size_t i = 0; i < loop.size(); ++i) {
+      basis.row(i) << 1.0, loop_xy_[k](i, 0), loop_xy_[k](i, 1);
+      along[i] = u[loop[i]];
+    }
+    const Eigen::Vector3d c = (basis.transpose() * basis).ldlt().solve(basis.transpose() * along);
+    ab.segment<2>(2 * k) = c.tail<2>();
+    for (int v : loop) u[v] = c[0];  // with dipole_ = 0, set_dipoles adds the profile to c
+  }
+  return ab;
 }
 
 void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
@@ -243,11 +203,44 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
     abj[j] += kDipoleStep;
     trial = u;
     set_dipoles(abj, trial);
-    newton(l2, trial, options, report);
-    J.col(j) = (periods(scale_lengths(*mesh_, l2, trial)) - period) / kDipoleStep;
+    convex_solve(l2, trial, options, report);
+    J.col(j) = (solved_periods() - period) / kDipoleStep;
     set_dipoles(ab, trial);  // dipole_ back to ab
   }
   return J;
+}
+
+bool HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+                               FlattenReport& report) {
+  const int m = 2 * num_holes();
+  Eigen::VectorXd period = solved_periods(), ab = dipole_;
+  // The Jacobian is kept across frames (it changes slowly along a slider) and updated by Broyden's
+  // rule; it is recomputed by finite differences when missing or when a step fails to halve the
+  // periods. Closed to tolerance * refinement like the flattening; the loop ends at the accuracy
+  // the periods allow (a fresh Jacobian's step that does not halve them).
+  bool fresh = false, at_u = true;
+  const double aim = options.tolerance * options.refinement;
+  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
+    if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, report), fresh = true;
+    const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
+    ab += delta;
+    set_dipoles(ab, u);
+    convex_solve(l2, u, options, report);
+    const Eigen::VectorXd next = solved_periods();
+    at_u = true;
+    const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
+    if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
+    if (halved) {
+      jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      fresh = false;
+    } else {
+      jacobian_ = dipole_jacobian(l2, u, next, options, report);
+      fresh = true;
+      at_u = false;
+    }
+    period = next;
+  }
+  return at_u;
 }
 
 HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
@@ -255,61 +248,18 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   const int nv = mesh_->num_vertices(), m = 2 * num_holes();
   if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
-  for (int v = 0; v < nv; ++v) u[v] = unknown_[v] < 0 ? 0.0 : u[vertex_of_[unknown_[v]]];
-  // The dipoles start from the last solve's (the previous frame on a slider), or from 0 with a cold
-  // start u = 0 (the interpolator's guess at an input, whose own metric closes with zero dipoles:
-  // exact in zero steps).
-  const bool cold = (u.array() == 0.0).all();
-  const Eigen::VectorXd start = dipole_.size() == m && !cold ? dipole_ : Eigen::VectorXd::Zero(m);
+  for (int v = 0; v < nv; ++v)
+    if (unknown(v) < 0) u[v] = 0.0;
+  set_dipole_shapes(l2);
+  // The dipoles start from the guess's profile along each hole (the interpolator extrapolates
+  // solved frames, dipoles included), or from 0 with a cold start u = 0 (the guess at an input,
+  // whose own metric closes with zero dipoles: exact in zero steps).
   dipole_.setZero(m);
-  // The dipoles' shape on each hole: cos and sin of the arc-length angle in the blended metric.
-  // Intrinsic, so that the pair reversed gives the same frames (base coordinates would not).
-  for (int k = 0; k < num_holes(); ++k) {
-    const auto& edges = loop_edges_[k];
-    Eigen::VectorXd s(edges.size() + 1);
-    s[0] = 0;
-    for (size_t i = 0; i < edges.size(); ++i) s[i + 1] = s[i] + std::sqrt(l2[edges[i].first]);
-    loop_xy_[k].resize(edges.size(), 2);
-    for (size_t i = 0; i < edges.size(); ++i) {
-      const double angle = 2 * kPi * s[i] / s[edges.size()];
-      loop_xy_[k].row(i) << std::cos(angle), std::sin(angle);
-    }
-  }
-  set_dipoles(start, u);
+  set_dipoles(fit_dipoles(u), u);
   HolesReport rep;
-  newton(l2, u, options, rep.flatten);
-  // Close the translation periods: u along hole k is c_k + a_k x + b_k y (base coordinates); Newton
-  // on (a, b) with a finite-difference Jacobian, each evaluation a warm-started convex solve.
-  Eigen::VectorXd period = periods(scale_lengths(*mesh_, l2, u)), ab = dipole_;
-  // The Jacobian is kept across frames (it changes slowly along a slider) and updated by Broyden's
-  // rule; it is recomputed by finite differences when missing or when a step fails to halve the
-  // periods.
-  bool fresh = false;
-  // Closed to tolerance * refinement like the flattening; the loop ends at the accuracy the periods
-  // allow (a fresh Jacobian's step that does not halve them).
-  const double aim = options.tolerance * options.refinement;
-  for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
-    if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, rep.flatten), fresh = true;
-    const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
-    ab += delta;
-    set_dipoles(ab, u);
-    newton(l2, u, options, rep.flatten);
-    const Eigen::VectorXd next = periods(scale_lengths(*mesh_, l2, u));
-    const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
-    if (!halved && fresh) {  // the accuracy of the periods (~ the flattening's tolerance) is reached
-      period = next;
-      break;
-    }
-    if (halved) {
-      jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
-      fresh = false;
-    } else {
-      jacobian_ = dipole_jacobian(l2, u, next, options, rep.flatten);
-      fresh = true;
-    }
-    period = next;
-  }
-  rep.flatness = layout(scale_lengths(*mesh_, l2, u), X, rep.closure);
+  convex_solve(l2, u, options, rep.flatten);
+  const bool at_u = close_periods(l2, u, options, rep.flatten);
+  rep.flatness = layout(at_u ? flattener_.flat_squared_lengths() : scale_lengths(*mesh_, l2, u), X, rep.closure);
   return rep;
 }
 

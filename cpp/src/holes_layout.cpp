@@ -1,11 +1,12 @@
-// The layout of a piece with holes (holes.h): faces developed across a dual spanning tree, the
-// holes' translation periods, and the least-squares fit of all edge vectors.
+// The layout of a piece with holes (holes.h): the holes' translation periods, faces developed
+// across a dual spanning tree, and the least-squares fit of all edge vectors.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <complex>
 
 #include "bdinterp/holes.h"
+#include "bdinterp/triangle.h"
 
 namespace bdinterp {
 namespace {
@@ -28,56 +29,60 @@ void HoleSolver::develop(const Eigen::VectorXd& l2, std::vector<std::complex<dou
   const Faces& FE = m.face_edges();
   const Edges& E = m.edges();
   const Edges& EF = m.edge_faces();
-  // Faces placed one after another across a dual spanning tree (walk_, breadth first from face 0):
-  // each child takes its parent's direction of the shared edge, so the rotations are consistent.
-  std::vector<std::array<std::complex<double>, 3>> P(F.rows());
-  auto lengths = [&](int f, double out[3]) {
-    for (int c = 0; c < 3; ++c) out[c] = l2[FE(f, c)];
-  };
-  double fl2[3];
-  lengths(0, fl2);
-  local_triangle(fl2, P[0].data());
-  for (const Mesh::DualStep& step : walk_) {
-    const int f = step.parent, c = step.parent_corner, g = step.face;
-    const int a = F(f, (c + 1) % 3), b = F(f, (c + 2) % 3);
-    std::complex<double> q[3];
-    lengths(g, fl2);
-    local_triangle(fl2, q);
-    int ca = 0, cb = 0;
-    for (int k = 0; k < 3; ++k) {
-      if (F(g, k) == a) ca = k;
-      if (F(g, k) == b) cb = k;
-    }
-    const std::complex<double> pa = P[f][(c + 1) % 3], d = P[f][(c + 2) % 3] - pa, ld = q[cb] - q[ca];
-    const std::complex<double> r = (d / ld) / std::abs(d / ld);
-    for (int k = 0; k < 3; ++k) P[g][k] = pa + r * (q[k] - q[ca]);
+  const int nf = static_cast<int>(F.rows());
+  // Each face in its own frame, then rotations across a dual spanning tree (walk_, breadth first
+  // from face 0): a child turns by its parent's rotation times the unit turn taking the shared edge
+  // as the child sees it (run the other way) to the edge as the parent sees it. Only that product
+  // is serial; the turns' square roots are not on its chain (they were most of a warm frame).
+  std::vector<std::array<std::complex<double>, 3>>& q = local_;
+  std::vector<std::complex<double>>& R = rotation_;
+  q.resize(nf);
+  R.resize(nf);
+  for (int f = 0; f < nf; ++f) {
+    const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
+    local_triangle(fl2, q[f].data());
+  }
+  R[0] = 1.0;
+  for (const Mesh::DualStep& st : walk_) {
+    const int c = st.parent_corner, k = st.face_corner;
+    const std::complex<double> hf = q[st.parent][(c + 2) % 3] - q[st.parent][(c + 1) % 3];
+    const std::complex<double> hg = q[st.face][(k + 1) % 3] - q[st.face][(k + 2) % 3];
+    const std::complex<double> z = hf * std::conj(hg);
+    R[st.face] = R[st.parent] * (z / std::sqrt(std::norm(z)));
   }
   // Every edge's vector E(e,0) -> E(e,1), averaged over its faces.
   d.assign(E.rows(), 0.0);
-  for (int f = 0; f < F.rows(); ++f) {
+  for (int f = 0; f < nf; ++f) {
     for (int c = 0; c < 3; ++c) {
       const int e = FE(f, c), a = F(f, (c + 1) % 3);
-      const std::complex<double> h = P[f][(c + 2) % 3] - P[f][(c + 1) % 3];
+      const std::complex<double> h = R[f] * (q[f][(c + 2) % 3] - q[f][(c + 1) % 3]);
       d[e] += (a == E(e, 0) ? h : -h) * (EF(e, 1) >= 0 ? 0.5 : 1.0);
     }
   }
 }
 
 Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
-  std::vector<std::complex<double>> d;
-  develop(l2, d);
-  return periods_of(d);
-}
-
-Eigen::VectorXd HoleSolver::periods_of(const std::vector<std::complex<double>>& d) const {
-  // Translation period of each hole: its edge vectors summed along the loop, over its length.
+  const Faces& FE = mesh_->face_edges();
   Eigen::VectorXd out(2 * num_holes());
+  std::vector<double> angle;
   for (int k = 0; k < num_holes(); ++k) {
+    const size_t n = loops_[k].size();
+    angle.assign(n, 0.0);
+    for (const auto& [i, f, c] : loop_corners_[k]) {
+      const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
+      double a[3];
+      triangle_angles(fl2, a);
+      angle[i] += a[c];
+    }
+    // Edge i runs from loop[i] to loop[i + 1]; the direction turns at loop[i + 1]. (Walking the
+    // other way conjugates every period: the closure and the Newton on it do not see the difference.)
     std::complex<double> gap = 0;
-    double length = 0;
-    for (const auto& [e, sign] : loop_edges_[k]) {
-      gap += sign * d[e];
-      length += std::abs(d[e]);
+    double length = 0, direction = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double l = std::sqrt(l2[loop_edges_[k][i].first]);
+      gap += std::polar(l, direction);
+      length += l;
+      direction += kPi - angle[(i + 1) % n];
     }
     out[2 * k] = gap.real() / length;
     out[2 * k + 1] = gap.imag() / length;
@@ -88,11 +93,19 @@ Eigen::VectorXd HoleSolver::periods_of(const std::vector<std::complex<double>>& 
 double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
   const Mesh& m = *mesh_;
   const Edges& E = m.edges();
-  std::vector<std::complex<double>> d;
+  std::vector<std::complex<double>>& d = developed_;
   develop(l2, d);
-  const Eigen::VectorXd p = periods_of(d);
+  // The gap of the developed loop (the same period as periods() up to the flattening's residual).
   closure.resize(num_holes());
-  for (int k = 0; k < num_holes(); ++k) closure[k] = std::hypot(p[2 * k], p[2 * k + 1]);
+  for (int k = 0; k < num_holes(); ++k) {
+    std::complex<double> gap = 0;
+    double length = 0;
+    for (const auto& [e, sign] : loop_edges_[k]) {
+      gap += sign * d[e];
+      length += std::abs(d[e]);
+    }
+    closure[k] = std::abs(gap) / length;
+  }
   // Least-squares fit of all edge vectors, the pinned vertex at the origin.
   const int rows = layout_->size();
   Eigen::VectorXd rhs = Eigen::VectorXd::Zero(2 * rows);

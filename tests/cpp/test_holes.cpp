@@ -1,11 +1,16 @@
 // Pieces with holes (holes.h): the reduced CETM energy, its gradient (angle conditions at interior
-// vertices and the total turning of each hole) and the least-squares layout.
+// vertices and the total turning of each hole) and Hessian in the disks' Flattener with the holes'
+// unknowns, the period closure and the least-squares layout.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
+#include <memory>
 #include <random>
+#include <vector>
 
+#include "bdinterp/flatten.h"
 #include "bdinterp/holes.h"
 #include "bdinterp/metric_blend.h"
 #include "test_meshes.h"
@@ -76,6 +81,83 @@ TEST(Holes, GradientIsTheDerivativeOfTheEnergyInTheReducedUnknowns) {
     const double fd = (solver.energy(l2, up) - solver.energy(l2, um)) / (2 * h);
     EXPECT_NEAR(fd, g[k], 1e-6) << "unknown " << k;
   }
+}
+
+// The unknowns of a one-hole solver's Flattener, written out: 2 pi inside, (n + 2) pi on the hole.
+FlattenUnknowns unknowns_of(const HoleSolver& solver, const Mesh& mesh) {
+  FlattenUnknowns unknowns;
+  for (int v = 0; v < mesh.num_vertices(); ++v) unknowns.of_vertex.push_back(solver.unknown(v));
+  const int hole_unknown = solver.unknown(solver.hole(0)[0]);
+  unknowns.target.assign(hole_unknown + 1, 2 * kPi);
+  unknowns.target[hole_unknown] = (static_cast<double>(solver.hole(0).size()) + 2) * kPi;
+  return unknowns;
+}
+
+// The Flattener over the holes' unknowns (as HoleSolver builds them, with a dipole offset along the
+// hole): its Hessian is the derivative of its gradient, loop row and column included, although the
+// hole's own edges (both ends one unknown) add nothing to it.
+TEST(Holes, FlattenerHessianOverAHoleIsTheDerivativeOfItsGradient) {
+  const Annulus a = annulus(4, 16);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  HoleSolver solver(mesh, a.V);
+  const int hole_unknown = solver.unknown(solver.hole(0)[0]);
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns_of(solver, mesh)));
+  ASSERT_EQ(fl.num_interior(), hole_unknown + 1);
+  Eigen::VectorXd l2 = squared_edge_lengths(mesh, a.V);
+  for (int e = 0; e < l2.size(); ++e) l2[e] *= 1.0 + 0.1 * std::sin(3.0 * e);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(a.V.rows());
+  for (int v = 0; v < u.size(); ++v)
+    if (solver.unknown(v) >= 0) u[v] = 0.05 * std::cos(solver.unknown(v));
+  for (size_t i = 0; i < solver.hole(0).size(); ++i) u[solver.hole(0)[i]] += 0.02 * std::sin(0.4 * i);
+  const Eigen::MatrixXd H = Eigen::MatrixXd(fl.hessian(l2, u));
+  const std::vector<int>& vertex = fl.pattern().vertex;
+  for (int k : {0, 7, hole_unknown}) {
+    const double h = 1e-6;
+    Eigen::VectorXd up = u, um = u;
+    for (int v = 0; v < u.size(); ++v)
+      if (solver.unknown(v) == k) up[v] += h, um[v] -= h;
+    const Eigen::VectorXd fd = (fl.gradient(l2, up) - fl.gradient(l2, um)) / (2 * h);
+    double worst = 0;
+    for (int j = 0; j < fl.num_interior(); ++j) worst = std::max(worst, std::abs(fd[vertex[j]] - H(vertex[j], vertex[k])));
+    EXPECT_LT(worst, 1e-6) << "unknown " << k;
+    EXPECT_GT(H(vertex[k], vertex[k]), 0.1) << "unknown " << k;
+  }
+  // interior_unknowns numbers the vertices and lays out the pattern as interior_pattern() does.
+  std::vector<int> cp1, r1, cp2, r2;
+  const InteriorPattern p1 = interior_pattern(mesh, cp1, r1);
+  const FlattenUnknowns inner = interior_unknowns(mesh);
+  const InteriorPattern p2 = unknowns_pattern(mesh, inner.of_vertex, static_cast<int>(inner.target.size()), cp2, r2);
+  EXPECT_EQ(p1.vertex, p2.vertex);
+  EXPECT_EQ(p1.edge_pos, p2.edge_pos);
+  EXPECT_EQ(cp1, cp2);
+  EXPECT_EQ(r1, r2);
+}
+
+// The periods the closure drives to zero (intrinsic: turning angles along the hole) are the gap of
+// the developed hole that the layout reports, on a flat metric whose hole does not close (one
+// scale per hole, no dipoles: z -> z + 0.3 z^2 blended half way).
+TEST(Holes, IntrinsicPeriodsAreTheGapOfTheDevelopedHole) {
+  const Annulus a = annulus(8, 48);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  Positions T(a.V.rows(), 2);
+  for (int v = 0; v < T.rows(); ++v) {
+    const std::complex<double> z(a.V(v, 0), a.V(v, 1)), w = z + 0.3 * z * z;
+    T.row(v) << w.real(), w.imag();
+  }
+  HoleSolver solver(mesh, a.V);
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns_of(solver, mesh)));
+  const Eigen::VectorXd l2 = 0.5 * (squared_edge_lengths(mesh, a.V) + squared_edge_lengths(mesh, T));
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  ASSERT_LE(fl.solve(l2, u).residual, 1e-10);
+  const Eigen::VectorXd flat = scale_lengths(mesh, l2, u);
+  const Eigen::VectorXd p = solver.periods(flat);
+  Positions X;
+  std::vector<double> closure;
+  solver.layout(flat, X, closure);
+  EXPECT_GT(closure[0], 1e-3);
+  EXPECT_NEAR(std::hypot(p[0], p[1]), closure[0], 1e-9);
+  // An input's own lengths: both vanish.
+  EXPECT_LT(solver.periods(squared_edge_lengths(mesh, T)).cwiseAbs().maxCoeff(), 1e-13);
 }
 
 TEST(Holes, SolvesABlendAndClosesTheLayoutAroundTheHole) {

@@ -144,8 +144,9 @@ def test_clockwise_faces_vertex_anchor_and_three_shape_blends_with_holes():
 
 @pytest.mark.parametrize("mesh", MESHES)
 def test_frames_with_holes_do_not_depend_on_the_calls_before(mesh):
-    """Issue #11 at the default options on the holes' own solver (chord steps with the last
-    factorisation): jumps and 0.01 slider moves against fresh Interpolators, to 1e-12 of the size."""
+    """Issue #11 at the default options on pieces with holes (the Flattener's chord steps with an
+    earlier factor, the dipoles fitted to the extrapolated guess, the Broyden Jacobian kept across
+    frames): jumps and 0.01 slider moves against fresh Interpolators, to 1e-12 of the size."""
     V, F = MESHES[mesh](8)
     T = targets(V)["swirl"]
     size = np.ptp(V, axis=0).max()

@@ -7,6 +7,11 @@
 // Lobachevsky's function, has gradient g_i = 2pi - (angle sum at i) at interior vertices and the
 // cotan Laplacian (weights (cot a + cot b) / 2) as Hessian. Newton with a line search on E.
 //
+// The unknowns need not be one per interior vertex (FlattenUnknowns): several vertices may share
+// one (a hole's loop, docs/HOLES.md), with a target angle sum of its own. The energy restricted to
+// that linear subspace stays convex; its Hessian is the cotan Laplacian with the shared rows and
+// columns summed (an edge inside one unknown adds w + w - 2w = 0). A disk is the special case.
+//
 // A FlattenPlan holds what depends on the mesh only (read-only, shared by threads); a Flattener is
 // one thread's workspace (scratch, numeric factorisation, the refactorisation policy's state).
 #pragma once
@@ -54,26 +59,49 @@ struct FlattenReport {
 // most in any one solve), the sum of the work (line_search_steps, factorizations, chord_steps).
 void merge(FlattenReport& into, const FlattenReport& other);
 
-// The mesh-only part of a flattening: interior numbering, where each face's terms go, the symbolic
-// analysis of the Hessian. Read-only once built; `disk` must outlive it.
-struct FlattenPlan {
-  // disk: one connected piece with one boundary loop (see split_into_disks).
-  explicit FlattenPlan(const Mesh& disk);
+// What a flattening solves for. Every vertex with an unknown moves by that unknown's change (so
+// vertices sharing one keep their differences in u: fixed offsets set by the caller); u is 0 at the
+// others. Unknown k's condition is: angle sum over its vertices = target[k].
+struct FlattenUnknowns {
+  std::vector<int> of_vertex;  // #V: the unknown of each vertex in [0, #unknowns), -1 where u = 0
+  std::vector<double> target;  // #unknowns: target angle sums (2 pi at an interior vertex)
+};
+// One unknown per interior vertex (in vertex order), target 2 pi; u = 0 on the boundary (the paper).
+FlattenUnknowns interior_unknowns(const Mesh& mesh);
 
-  // Per face, where its terms go, with the boundary sent to spare slots (row num_interior() of the
+// The lower compressed-column pattern (col_ptr, rows) of a symmetric matrix over the unknowns
+// of_vertex (#V, values in [0, n) or -1) of `mesh`: a diagonal per unknown and an entry per pair of
+// different unknowns joined by an edge. In the result, index = of_vertex, vertex = each unknown's
+// lowest vertex, edge_pos = the entry of each edge (-1 inside one unknown or at a fixed end). With
+// interior_unknowns it is interior_pattern(). Throws InvalidInput if an unknown has no vertex.
+InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
+                                 std::vector<int>& col_ptr, std::vector<int>& rows);
+
+// The mesh-only part of a flattening: the unknowns, where each face's terms go, the symbolic
+// analysis of the Hessian. Read-only once built; the mesh must outlive it.
+struct FlattenPlan {
+  // disk: one connected piece with one boundary loop (see split_into_disks): interior_unknowns.
+  explicit FlattenPlan(const Mesh& disk);
+  // piece: one connected piece; unknowns as described above (of_vertex sized #V). Throws
+  // InvalidInput for sizes that do not match.
+  FlattenPlan(const Mesh& piece, FlattenUnknowns unknowns);
+
+  // Per face, where its terms go, with fixed vertices sent to spare slots (row num_interior() of the
   // angle sums, entry nnz() of the Hessian values) so that the face loops need no branches.
   struct FaceSlots {
-    int edge[3];  // edge opposite corner c
-    int row[3];   // interior index of corner c
-    int diag[3];  // Hessian position of corner c's diagonal
-    int off[3];   // Hessian position of the entry of edge c
+    int edge[3];     // edge opposite corner c
+    int row[3];      // unknown of corner c
+    int end[3][2];   // Hessian positions of the diagonals of edge c's ends (corners c+1, c+2)
+    int off[3];      // Hessian position of the entry of edge c
   };
 
   const Mesh& mesh;
-  InteriorPattern pattern;
+  InteriorPattern pattern;       // index: the unknown of each vertex; vertex: one vertex of each
+  Eigen::VectorXd target;        // per unknown: its target angle sum
+  std::vector<int> moved;        // the vertices with an unknown, ascending
   std::vector<FaceSlots> slots;
-  std::shared_ptr<const CholeskyAnalysis> analysis;  // null without interior vertices
-  int num_interior() const { return pattern.size(); }
+  std::shared_ptr<const CholeskyAnalysis> analysis;  // null without unknowns
+  int num_interior() const { return pattern.size(); }  // the number of unknowns
   int nnz() const { return analysis ? static_cast<int>(analysis->row_indices().size()) : 0; }
 };
 
@@ -88,18 +116,19 @@ class Flattener {
   ~Flattener();
 
   // l2: #E blended squared edge lengths. u: #V conformal factors; on input the initial guess
-  // (boundary and non-finite entries are ignored), on output the solution (0 on the boundary).
+  // (entries of vertices without an unknown and non-finite entries are set to 0; vertices sharing an
+  // unknown keep their differences), on output the solution (0 on the boundary of a disk).
   // Throws InvalidInput for bad options or sizes, SolverError if `options.tolerance` is not reached
   // within `options.max_iterations` steps.
   FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
 
-  // The pieces of the solve, exposed for tests and diagnostics (all sized #V; boundary entries of
-  // gradients are 0). They do not disturb the state solve() leaves.
+  // The pieces of the solve, exposed for tests and diagnostics (all sized #V; gradients hold unknown
+  // k's entry at vertex pattern().vertex[k], 0 elsewhere). They do not disturb the state solve() leaves.
   double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
-  // The Hessian as Newton assembles it (#V by #V, interior rows and columns only).
+  // The Hessian as Newton assembles it (#V by #V, rows and columns pattern().vertex only).
   Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
-  // max |2pi - angle sum| over interior vertices.
+  // max |target - angle sum| over the unknowns.
   double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   // #E flat squared lengths exp(u_i + u_j) l2_ij at the solution of the last solve() (valid until
   // the next solve), so the layout need not recompute them.
@@ -129,10 +158,6 @@ class Flattener {
   std::shared_ptr<const FlattenPlan> plan_;
   std::unique_ptr<State> state_;
 };
-
-// One-off convenience: the flat squared edge lengths exp(u_i + u_j) l2_ij of a disk.
-Eigen::VectorXd flatten(const Mesh& disk, const Eigen::VectorXd& l2, const FlattenOptions& options = {},
-                        FlattenReport* report = nullptr);
 
 // exp(u_i + u_j) * l2_ij for every edge.
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u);

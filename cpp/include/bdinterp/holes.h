@@ -1,22 +1,23 @@
 // Steps 2 and 3 of the method on a piece with holes (a multiply connected domain; docs/HOLES.md).
 //
 // The paper flattens with u = 0 on the boundary, which needs one boundary loop. With holes, u = 0 is
-// kept on the outer loop only; each inner loop gets ONE unknown conformal scale (u constant along
-// it) whose angle condition is the loop's total turning: the domain's angles along a hole of n
-// vertices sum to (n + 2) pi, so the hole's boundary turns once and the developed loop closes in
-// rotation. The energy is the CETM energy restricted to that linear subspace (still convex); its
-// Hessian is the cotan Laplacian with each loop's rows and columns summed.
+// kept on the outer loop only; each inner loop gets ONE unknown conformal scale whose angle
+// condition is the loop's total turning: the domain's angles along a hole of n vertices sum to
+// (n + 2) pi, so the hole's boundary turns once and the developed loop closes in rotation. That is
+// the disks' Flattener with other unknowns (FlattenUnknowns, flatten.h): the same energy, Newton,
+// warm start, refactorisation policy and parallel loops.
 //
 // One scale per hole does not close the translation period (two numbers per hole): the developed
 // hole boundary may miss its start. Two more unknowns per hole close it: u along hole k is
-// c_k + a_k cos s + b_k sin s (s: the arc-length angle along the loop in the blended metric),
-// the convex problem above is solved for fixed dipoles (a, b), and Newton on the dipoles (finite-
-// difference Jacobian, warm-started convex solves) drives every period to zero. At an input's own
-// metric the periods vanish with zero dipoles: no extra solve, inputs exact. The layout fits every
-// edge vector by least squares; the remaining period is reported per hole, relative to the loop's
-// length.
+// c_k + a_k cos s + b_k sin s (s: the arc-length angle along the loop in the blended metric). This
+// class is that outer step: for fixed dipoles (a, b) the Flattener solves for the c_k (the dipole
+// terms are its fixed offsets), and Newton on the dipoles (finite-difference Jacobian, Broyden
+// updates, warm-started convex solves) drives every period to zero. At an input's own metric the
+// periods vanish with zero dipoles: no extra solve, inputs exact. The layout fits every edge vector
+// by least squares; the remaining period is reported per hole, relative to the loop's length.
 #pragma once
 
+#include <array>
 #include <complex>
 #include <memory>
 #include <utility>
@@ -37,25 +38,24 @@ struct HolesReport {
 class HoleSolver {
  public:
   // piece: one connected piece with >= 1 boundary loop; base: its base shape (#V by 2), which only
-  // decides which loop is the outer one (the largest enclosed area).
+  // decides which loop is the outer one (the largest enclosed area). Throws InvalidInput for a piece
+  // without boundary.
   HoleSolver(const Mesh& piece, const Positions& base);
   ~HoleSolver();
-  std::unique_ptr<HoleSolver> clone() const;  // own factors (shared analyses), for another thread
+  std::unique_ptr<HoleSolver> clone() const;  // own workspaces (shared plans), for another thread
 
-  // Drops the warm-start state (the last dipoles and factorisation): the next solve is cold.
-  void forget() {
-    dipole_.resize(0);
-    jacobian_.resize(0, 0);
-    factored_ = false;
-  }
+  // Drops the warm-start state (the Jacobian and the factorisation): the next solve is cold.
+  void forget();
   int num_holes() const { return static_cast<int>(loops_.size()); }
   // Vertices of inner loop k in the order of the mesh's boundary loop.
   const std::vector<int>& hole(int k) const { return loops_[k]; }
 
-  // l2: #E blended squared lengths; u: #V initial guess (outer-loop entries ignored; an inner loop
-  // takes its first vertex's value), on output the solution (0 on the outer loop, one value per
-  // inner loop). Throws SolverError if the tolerance is not reached. Then lays the flat metric out:
-  // X (#V by 2) with counter-clockwise faces in an arbitrary rigid frame.
+  // l2: #E blended squared lengths; u: #V initial guess (outer-loop entries ignored; along inner
+  // loop k its least-squares fit c_k + a_k cos s + b_k sin s is the start; all zero: a cold start),
+  // on output the solution (0 on the outer loop, c_k plus the dipole terms along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if
+  // the tolerance is not reached. Then lays the flat metric out: X (#V by 2) with counter-clockwise
+  // faces in an arbitrary rigid frame. The report's work counts (iterations, factorizations, ...)
+  // are summed over the convex solves of the closure.
   HolesReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
                     const FlattenOptions& options = {});
 
@@ -69,65 +69,68 @@ class HoleSolver {
   }
 
   // For tests: energy and gradient in the reduced unknowns (one per interior vertex, one per inner
-  // loop); the gradient is target angle sum - angle sum, 2 pi at vertices, (n + 2) pi at loops.
-  double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
-  Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) const;
+  // loop; u sized #V); the gradient is target angle sum - angle sum, 2 pi at vertices, (n + 2) pi
+  // at loops, indexed by unknown.
+  double energy(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
+  Eigen::VectorXd gradient(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   // Unknown of vertex v: -1 on the outer loop.
-  int unknown(int v) const { return unknown_[v]; }
+  int unknown(int v) const { return plan_->pattern.index[v]; }
 
   // Lays out flat squared lengths l2 (#E): X as above, closure per inner loop; returns flatness.
   double layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure);
-  // The holes' translation periods of flat lengths l2, relative to each loop's length: (re, im) of
-  // hole k at 2k, 2k + 1.
+  // The holes' translation periods of flat lengths l2 (#E), relative to each loop's length: (re, im)
+  // of hole k at 2k, 2k + 1, in a frame along the loop's first edge. Intrinsic: walking the hole, the
+  // direction turns by pi - (the domain's angle) at each vertex (no development of the faces).
   Eigen::VectorXd periods(const Eigen::VectorXd& l2) const;
 
  private:
   HoleSolver(const HoleSolver&);
-  // The convex solve for the unknowns at fixed dipoles (u along each hole = its unknown + dipole).
-  void newton(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
-              FlattenReport& report) const;
-  // One line search of newton(); false at the roundoff floor below the tolerance (holes_newton.cpp).
-  bool line_search(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& step, double r0,
-                   bool refining, double& energy, Eigen::VectorXd& trial, int& broken, FlattenReport& fr) const;
+  // The convex solve for the unknowns at fixed dipoles (the Flattener), its work added to report.
+  void convex_solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+                    FlattenReport& report);
+  // The periods of the last convex solve's flat lengths.
+  Eigen::VectorXd solved_periods() const { return periods(flattener_.flat_squared_lengths()); }
+  // The dipoles' shape on each hole (loop_xy_) from the blended lengths l2.
+  void set_dipole_shapes(const Eigen::VectorXd& l2);
+  // The dipoles (a_k, b_k at 2k, 2k + 1) of u's least-squares fit c_k + a_k cos s + b_k sin s along
+  // each hole (loop_xy_ set); u along hole k is set to c_k.
+  Eigen::VectorXd fit_dipoles(Eigen::VectorXd& u) const;
   // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
   void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
+  // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns
+  // whether the Flattener's flat lengths are still those of u.
+  bool close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+                     FlattenReport& report);
   // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
   void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
-  Eigen::VectorXd periods_of(const std::vector<std::complex<double>>& d) const;
-  // Gradient (into grad_), optionally energy and Hessian values (into chol_->values()).
-  double evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, bool want_energy,
-                  bool want_hessian, int* broken) const;
+  void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
+  void factorize_layout();     // layout_ from layout_values_
 
   const Mesh* mesh_;
   std::vector<Mesh::DualStep> walk_;     // the dual tree develop() places the faces over (from face 0)
   std::vector<std::vector<int>> loops_;  // the inner loops
-  std::vector<int> unknown_;             // #V
-  std::vector<int> vertex_of_;           // per unknown: a vertex of it
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
+  // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
+  std::vector<std::vector<std::array<int, 3>>> loop_corners_;
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)
-  Eigen::VectorXd target_;               // per unknown: its target angle sum
-  int n_ = 0;                            // number of unknowns
-  // Per face corner c (3 f + c): Hessian positions of the diagonals of the edge's ends and of the
-  // entry between them (-1: not an unknown / same unknown, see slot_same_).
-  std::vector<int> slot_a_, slot_b_, slot_off_;
-  void build_hessian_slots();  // the reduced Hessian's pattern, analysis and per-corner slots
-  void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
-  void factorize_layout();     // layout_ from layout_values_
-  // The symbolic analyses are shared by copies (one per thread); the factors are each copy's own.
-  std::shared_ptr<const CholeskyAnalysis> hessian_analysis_, layout_analysis_;
-  std::unique_ptr<SparseCholesky> chol_;     // the reduced Hessian
+  // The plans (flattening over the holes' unknowns; the layout's analysis) are shared by copies
+  // (one per thread); the workspaces and factors are each copy's own.
+  std::shared_ptr<const FlattenPlan> plan_;
+  Flattener flattener_;
+  std::shared_ptr<const CholeskyAnalysis> layout_analysis_;
   std::unique_ptr<SparseCholesky> layout_;   // uniform Laplacian, vertex `pinned_` removed
   std::vector<double> layout_values_;        // its values
   std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
   int pinned_ = 0;
-  mutable Eigen::VectorXd grad_;
-  mutable bool factored_ = false;  // chol_ holds a factorisation (of some earlier u) for chord steps
-  mutable std::vector<double> hvals_;
+  std::vector<std::complex<double>> developed_;  // layout()'s scratch: every edge's vector
+  // develop()'s scratch: each face in its own frame, and its rotation.
+  mutable std::vector<std::array<std::complex<double>, 3>> local_;
+  mutable std::vector<std::complex<double>> rotation_;
 };
 
 }  // namespace bdinterp

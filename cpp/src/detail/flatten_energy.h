@@ -13,7 +13,7 @@ namespace bdinterp::detail {
 
 // What one pass computed at some u.
 struct Evaluation {
-  Eigen::VectorXd defect;      // #interior + 1: 2 pi - angle sum, the gradient (last entry: 0)
+  Eigen::VectorXd defect;      // #unknowns + 1: target - angle sum, the gradient (last entry: 0)
   Eigen::VectorXd scaled_l2;   // #E: exp(u_i + u_j) l2_ij
   Eigen::VectorXd scaled_len;  // #E: its square roots
   double residual = 0;         // max |defect|

@@ -1,6 +1,6 @@
-// Internal: the loop control the Newton solves share (the disk flattening, flatten_newton.cpp; a
-// piece with holes, holes_newton.cpp): the step cap, and the refinement below the tolerance that
-// makes frames independent of the previous frame's start (issue #11).
+// Internal: the loop control of the flattening's Newton solve (flatten_newton.cpp): the step cap,
+// and the refinement below the tolerance that makes frames independent of the previous frame's
+// start (issue #11).
 #pragma once
 
 #include <Eigen/Core>
