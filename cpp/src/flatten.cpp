@@ -55,38 +55,6 @@ FlattenUnknowns interior_unknowns(const Mesh& mesh) {
   return u;
 }
 
-InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
-                                 std::vector<int>& col_ptr, std::vector<int>& rows) {
-  InteriorPattern p;
-  p.index = of_vertex;
-  p.vertex.assign(n, -1);
-  for (int v = static_cast<int>(of_vertex.size()) - 1; v >= 0; --v)
-    if (of_vertex[v] >= 0) p.vertex[of_vertex[v]] = v;
-  for (int k = 0; k < n; ++k)
-    if (p.vertex[k] < 0) throw InvalidInput("flatten: unknown " + std::to_string(k) + " has no vertex");
-  const Edges& E = mesh.edges();
-  std::vector<std::vector<std::pair<int, int>>> below(n);  // per column: (row, edge)
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = of_vertex[E(e, 0)], b = of_vertex[E(e, 1)];
-    if (a >= 0 && b >= 0 && a != b) below[std::min(a, b)].push_back({std::max(a, b), e});
-  }
-  col_ptr.assign(n + 1, 0);
-  rows.clear();
-  p.diag_pos.resize(n);
-  p.edge_pos.assign(E.rows(), -1);
-  for (int j = 0; j < n; ++j) {
-    std::sort(below[j].begin(), below[j].end());
-    p.diag_pos[j] = static_cast<int>(rows.size());
-    rows.push_back(j);
-    for (const auto& [i, e] : below[j]) {
-      if (rows.back() != i) rows.push_back(i);  // several edges may join the same two unknowns
-      p.edge_pos[e] = static_cast<int>(rows.size()) - 1;
-    }
-    col_ptr[j + 1] = static_cast<int>(rows.size());
-  }
-  return p;
-}
-
 FlattenPlan::FlattenPlan(const Mesh& disk) : FlattenPlan(disk, interior_unknowns(disk)) {}
 
 FlattenPlan::FlattenPlan(const Mesh& piece, FlattenUnknowns unknowns) : mesh(piece) {

@@ -272,30 +272,38 @@ std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
 std::vector<Piece> split_into_disks(const Mesh& mesh) { return split(mesh, false); }
 std::vector<Piece> split_into_pieces(const Mesh& mesh) { return split(mesh, true); }
 
-InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows) {
+InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
+                                 std::vector<int>& col_ptr, std::vector<int>& rows) {
   InteriorPattern p;
-  const int nv = disk.num_vertices();
-  p.index.assign(nv, -1);
-  for (int v = 0; v < nv; ++v) {
-    if (!disk.is_boundary_vertex(v) && !disk.is_isolated_vertex(v)) {
-      p.index[v] = static_cast<int>(p.vertex.size());
-      p.vertex.push_back(v);
-    }
-  }
-  const Edges& E = disk.edges();
-  std::vector<std::pair<int, int>> ends(E.rows()), inside;  // per edge: its ends' interior numbers
+  p.index = of_vertex;
+  p.vertex.assign(n, -1);
+  for (int v = static_cast<int>(of_vertex.size()) - 1; v >= 0; --v)
+    if (of_vertex[v] >= 0) p.vertex[of_vertex[v]] = v;
+  for (int k = 0; k < n; ++k)
+    if (p.vertex[k] < 0) throw InvalidInput("flatten: unknown " + std::to_string(k) + " has no vertex");
+  const Edges& E = mesh.edges();
+  std::vector<std::pair<int, int>> ends(E.rows()), joined;  // per edge: its ends' unknowns
   for (int e = 0; e < E.rows(); ++e) {
-    ends[e] = {p.index[E(e, 0)], p.index[E(e, 1)]};
-    if (ends[e].first >= 0 && ends[e].second >= 0) inside.push_back(ends[e]);
+    ends[e] = {of_vertex[E(e, 0)], of_vertex[E(e, 1)]};
+    if (ends[e].first < 0 || ends[e].second < 0 || ends[e].first == ends[e].second) ends[e] = {-1, -1};
+    else joined.push_back(ends[e]);
   }
-  SymmetricPattern s(p.size(), std::move(inside));
+  SymmetricPattern s(n, std::move(joined));  // several edges may join the same two unknowns
   p.diag_pos.assign(s.col_ptr.begin(), s.col_ptr.end() - 1);  // the diagonal comes first in its column
   p.edge_pos.assign(E.rows(), -1);
   for (int e = 0; e < E.rows(); ++e)
-    if (ends[e].first >= 0 && ends[e].second >= 0) p.edge_pos[e] = s.position(ends[e].first, ends[e].second);
+    if (ends[e].first >= 0) p.edge_pos[e] = s.position(ends[e].first, ends[e].second);
   col_ptr = std::move(s.col_ptr);
   rows = std::move(s.rows);
   return p;
+}
+
+InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows) {
+  std::vector<int> index(disk.num_vertices(), -1);
+  int n = 0;
+  for (int v = 0; v < disk.num_vertices(); ++v)
+    if (!disk.is_boundary_vertex(v) && !disk.is_isolated_vertex(v)) index[v] = n++;
+  return unknowns_pattern(disk, index, n, col_ptr, rows);
 }
 
 }  // namespace bdinterp

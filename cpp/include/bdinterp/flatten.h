@@ -69,14 +69,6 @@ struct FlattenUnknowns {
 // One unknown per interior vertex (in vertex order), target 2 pi; u = 0 on the boundary (the paper).
 FlattenUnknowns interior_unknowns(const Mesh& mesh);
 
-// The lower compressed-column pattern (col_ptr, rows) of a symmetric matrix over the unknowns
-// of_vertex (#V, values in [0, n) or -1) of `mesh`: a diagonal per unknown and an entry per pair of
-// different unknowns joined by an edge. In the result, index = of_vertex, vertex = each unknown's
-// lowest vertex, edge_pos = the entry of each edge (-1 inside one unknown or at a fixed end). With
-// interior_unknowns it is interior_pattern(). Throws InvalidInput if an unknown has no vertex.
-InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
-                                 std::vector<int>& col_ptr, std::vector<int>& rows);
-
 // The mesh-only part of a flattening: the unknowns, where each face's terms go, the symbolic
 // analysis of the Hessian. Read-only once built; the mesh must outlive it.
 struct FlattenPlan {

@@ -131,6 +131,14 @@ struct InteriorPattern {
 };
 // col_ptr (#interior + 1) and rows (nnz) receive the compressed-column pattern itself.
 InteriorPattern interior_pattern(const Mesh& disk, std::vector<int>& col_ptr, std::vector<int>& rows);
+// The lower compressed-column pattern (col_ptr, rows) of a symmetric matrix over the unknowns
+// of_vertex (#V, values in [0, n) or -1) of `mesh`: a diagonal per unknown and an entry per pair of
+// different unknowns joined by an edge. In the result, index = of_vertex, vertex = each unknown's
+// lowest vertex, edge_pos = the entry of each edge (-1 inside one unknown or at a fixed end); built
+// by SymmetricPattern. interior_pattern() is this over the interior numbering. Throws InvalidInput
+// if an unknown has no vertex.
+InteriorPattern unknowns_pattern(const Mesh& mesh, const std::vector<int>& of_vertex, int n,
+                                 std::vector<int>& col_ptr, std::vector<int>& rows);
 
 // Splits `mesh` into its pieces and checks each is a topological disk (exactly one boundary loop);
 // throws InvalidInput for a piece with holes or without boundary.
