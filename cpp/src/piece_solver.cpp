@@ -11,7 +11,14 @@ namespace {
 // A disk (one boundary loop): the Flattener with u = 0 on the boundary, the Layout on its Hessian.
 class DiskSolver final : public PieceSolver {
  public:
-  explicit DiskSolver(const PiecePlan& plan) : PieceSolver(plan), layout_(plan.layout, /*own_system=*/false) {}
+  explicit DiskSolver(const PiecePlan& plan)
+      : PieceSolver(plan), flattener_(plan.flatten), layout_(plan.layout, /*own_system=*/false) {}
+
+  void forget() override {
+    PieceSolver::forget();
+    flattener_.forget();
+  }
+  Flattener& flattener() override { return flattener_; }
 
  private:
   FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options, PieceOutcome&) override {
@@ -49,6 +56,7 @@ class DiskSolver final : public PieceSolver {
     }
   }
 
+  Flattener flattener_;
   Layout layout_;
 };
 
@@ -62,6 +70,7 @@ class HoledSolver final : public PieceSolver {
     PieceSolver::forget();
     holes_->forget();
   }
+  Flattener& flattener() override { return holes_->flattener(); }
 
  private:
   FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options, PieceOutcome& out) override {
@@ -79,11 +88,15 @@ class HoledSolver final : public PieceSolver {
 
 PiecePlan::PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still)
     : piece(std::move(p)),
-      flatten(std::make_shared<const FlattenPlan>(piece.mesh)),
-      layout(std::make_shared<const LayoutPlan>(piece.mesh)),
       anchor(piece.mesh, local_shapes[base], anchor_vertex),
       mirrored(doubled_total_area(local_shapes[base], piece.mesh.faces()) < 0) {
-  if (piece.mesh.boundary_loops().size() > 1) holes = std::make_unique<const HoleSolver>(piece.mesh, local_shapes[base]);
+  // A holed piece flattens and lays out in its HoleSolver: no disk plan or layout for it.
+  if (piece.mesh.boundary_loops().size() > 1) {
+    holes = std::make_unique<const HoleSolver>(piece.mesh, local_shapes[base]);
+  } else {
+    flatten = std::make_shared<const FlattenPlan>(piece.mesh);
+    layout = std::make_shared<const LayoutPlan>(piece.mesh);
+  }
   const Eigen::VectorXd region = still ? still_region(piece.mesh, anchor, local_shapes, base) : Eigen::VectorXd();
   if (region.size() > 0) anchor.set_region(region);
   for (const Positions& X : local_shapes) {
@@ -101,7 +114,7 @@ std::unique_ptr<PieceSolver> PieceSolver::make(const PiecePlan& plan) {
 }
 
 PieceSolver::PieceSolver(const PiecePlan& plan)
-    : plan_(plan), flattener_(plan.flatten), u_(Eigen::VectorXd::Zero(plan.piece.mesh.num_vertices())) {}
+    : plan_(plan), u_(Eigen::VectorXd::Zero(plan.piece.mesh.num_vertices())) {}
 
 PieceOutcome PieceSolver::solve(const Eigen::VectorXd& w, const FlattenOptions& options, const Anchor& anchor,
                                 Eigen::Ref<Positions> out) {
@@ -116,7 +129,6 @@ PieceOutcome PieceSolver::solve(const Eigen::VectorXd& w, const FlattenOptions& 
 
 void PieceSolver::forget() {
   history_.solved.clear();
-  flattener_.forget();
 }
 
 void PieceSolver::continue_from(const PieceSolver& other) {

@@ -22,8 +22,8 @@ namespace bdinterp::detail {
 struct PiecePlan {
   Piece piece;
   std::vector<Eigen::VectorXd> l2;  // per input shape: squared edge lengths (#E)
-  std::shared_ptr<const FlattenPlan> flatten;
-  std::shared_ptr<const LayoutPlan> layout;
+  std::shared_ptr<const FlattenPlan> flatten;  // disks only (a holed piece's is its HoleSolver's)
+  std::shared_ptr<const LayoutPlan> layout;    // disks only
   AnchorFrame anchor;
   std::vector<Frame2> frames;  // per input shape: its anchor
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
@@ -63,8 +63,9 @@ class PieceSolver {
   // Starts from other's warm-start history (the frames before a chunk of frames()), with no
   // reusable factorisation of its own.
   void continue_from(const PieceSolver& other);
-  // The disk flattener (for holed pieces only Interpolator::floor_seconds factorises with it).
-  Flattener& flattener() { return flattener_; }
+  // The flattener of the piece's unknowns (a holed piece's is its HoleSolver's), for
+  // Interpolator::floor_seconds.
+  virtual Flattener& flattener() = 0;
 
  protected:
   explicit PieceSolver(const PiecePlan& plan);
@@ -80,7 +81,6 @@ class PieceSolver {
   void place(const Eigen::VectorXd& w, const Anchor& anchor, Eigen::Ref<Positions> out, PieceOutcome& result);
 
   const PiecePlan& plan_;
-  Flattener flattener_;
   History history_;
   Eigen::VectorXd u_, l2w_;  // #V log scale factors, #E blended squared lengths
   Positions X_;              // #V by 2, the piece's layout

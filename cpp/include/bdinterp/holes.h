@@ -47,6 +47,8 @@ class HoleSolver {
   // Drops the warm-start state (the Jacobian and the factorisation): the next solve is cold.
   void forget();
   int num_holes() const { return static_cast<int>(loops_.size()); }
+  // The convex solve's Flattener (one unknown per interior vertex and per hole).
+  Flattener& flattener() { return flattener_; }
   // Vertices of inner loop k in the order of the mesh's boundary loop.
   const std::vector<int>& hole(int k) const { return loops_[k]; }
 
