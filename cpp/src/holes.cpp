@@ -17,6 +17,9 @@ namespace {
 // residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
+// First-order closure steps on one sensitivity before a convex solve refreshes it: its staleness
+// grows along a slider and with it the angle residual the step leaves (tests/cpp/test_holes.cpp).
+constexpr int kLinearSteps = 4;
 
 // The inner loops of `piece`: every boundary loop but the one enclosing the largest area in `base`.
 std::vector<std::vector<int>> inner_loops(const Mesh& piece, const Positions& base) {
@@ -133,6 +136,7 @@ std::unique_ptr<HoleSolver> HoleSolver::clone() const {
 void HoleSolver::forget() {
   dipole_.resize(0);
   jacobian_.resize(0, 0);
+  sensitivity_.resize(0, 0);
   flattener_.forget();
 }
 
@@ -197,6 +201,8 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
   const int m = 2 * num_holes();
   const Eigen::VectorXd ab = dipole_;
   Eigen::MatrixXd J(m, m);
+  sensitivity_.resize(u.size(), m);
+  sensitivity_age_ = 0;
   Eigen::VectorXd trial;
   for (int j = 0; j < m; ++j) {
     Eigen::VectorXd abj = ab;
@@ -205,42 +211,67 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
     set_dipoles(abj, trial);
     convex_solve(l2, trial, options, report);
     J.col(j) = (solved_periods() - period) / kDipoleStep;
+    sensitivity_.col(j) = (trial - u) / kDipoleStep;
     set_dipoles(ab, trial);  // dipole_ back to ab
   }
   return J;
 }
 
-bool HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
-                               FlattenReport& report) {
+bool HoleSolver::linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
+                             Eigen::VectorXd& next) {
+  // u moves by the sensitivity times the dipoles' step: what the convex solve would do, up to the
+  // step squared and the sensitivity's staleness (both far below the tolerance at periods ~1e-11),
+  // so a steady frame needs no second convex solve. Kept only if it closes the periods.
+  if (sensitivity_age_ >= kLinearSteps) return false;
+  Eigen::VectorXd trial = u + sensitivity_ * delta;
+  flat_ = scale_lengths(*mesh_, l2, trial);
+  next = periods(flat_);
+  if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
+  ++sensitivity_age_;
+  u = std::move(trial);
+  dipole_ += delta;
+  return true;
+}
+
+const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
+                                                 const FlattenOptions& options, FlattenReport& report) {
   const int m = 2 * num_holes();
-  Eigen::VectorXd period = solved_periods(), ab = dipole_;
-  // The Jacobian is kept across frames (it changes slowly along a slider) and updated by Broyden's
-  // rule; it is recomputed by finite differences when missing or when a step fails to halve the
-  // periods. Closed to tolerance * refinement like the flattening; the loop ends at the accuracy
-  // the periods allow (a fresh Jacobian's step that does not halve them).
-  bool fresh = false, at_u = true;
+  Eigen::VectorXd period = solved_periods(), next;
+  // The Jacobian and the sensitivity du/d dipoles are kept across frames (they change slowly along
+  // a slider) and updated by Broyden's rule; recomputed by finite differences when missing or when
+  // a step fails to halve the periods. Closed to tolerance * refinement like the flattening; the
+  // loop ends at the accuracy the periods allow (a fresh Jacobian's step that does not halve them).
+  bool fresh = false;
+  const Eigen::VectorXd* flat = &flattener_.flat_squared_lengths();
   const double aim = options.tolerance * options.refinement;
   for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
     if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, report), fresh = true;
     const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
-    ab += delta;
-    set_dipoles(ab, u);
+    if (linear_step(l2, delta, aim, u, next)) {
+      jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      return flat_;
+    }
+    const Eigen::VectorXd before = u;
+    set_dipoles(dipole_ + delta, u);
     convex_solve(l2, u, options, report);
-    const Eigen::VectorXd next = solved_periods();
-    at_u = true;
+    next = solved_periods();
+    flat = &flattener_.flat_squared_lengths();
     const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
     if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
     if (halved) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      sensitivity_ += (u - before - sensitivity_ * delta) * delta.transpose() / delta.squaredNorm();
+      sensitivity_age_ = 0;
       fresh = false;
     } else {
       jacobian_ = dipole_jacobian(l2, u, next, options, report);
       fresh = true;
-      at_u = false;
+      flat_ = scale_lengths(*mesh_, l2, u);
+      flat = &flat_;
     }
     period = next;
   }
-  return at_u;
+  return *flat;
 }
 
 HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
@@ -258,8 +289,7 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   set_dipoles(fit_dipoles(u), u);
   HolesReport rep;
   convex_solve(l2, u, options, rep.flatten);
-  const bool at_u = close_periods(l2, u, options, rep.flatten);
-  rep.flatness = layout(at_u ? flattener_.flat_squared_lengths() : scale_lengths(*mesh_, l2, u), X, rep.closure);
+  rep.flatness = layout(close_periods(l2, u, options, rep.flatten), X, rep.closure);
   return rep;
 }
 

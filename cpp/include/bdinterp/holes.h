@@ -102,9 +102,13 @@ class HoleSolver {
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
-  // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns
-  // whether the Flattener's flat lengths are still those of u.
-  bool close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
+  // The dipoles' step delta taken to first order (u += sensitivity_ * delta, no convex solve): kept,
+  // with its periods in next, if they are finite and below aim; else u and dipole_ are unchanged.
+  bool linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
+                   Eigen::VectorXd& next);
+  // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns the
+  // flat squared lengths of the final u (the Flattener's or flat_).
+  const Eigen::VectorXd& close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                      FlattenReport& report);
   // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
   void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
@@ -120,6 +124,9 @@ class HoleSolver {
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)
+  Eigen::MatrixXd sensitivity_;           // #V by 2 #holes: d u / d dipoles of the convex solution, too
+  int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
+  Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
   // The plans (flattening over the holes' unknowns; the layout's analysis) are shared by copies
   // (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;
