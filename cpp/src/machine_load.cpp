@@ -1,5 +1,5 @@
 // What the thread pool knows of the machine (parallel.h, detail), the platform-independent part: the
-// running means it judges by, CPU quotas, busy cores from CPU-time counters. What each platform
+// running means it judges by, CPU quotas, other programs' busy cores from CPU-time counters. What each platform
 // reports is in machine_probe_linux.cpp, machine_probe_windows.cpp and machine_probe_macos.cpp.
 #include <algorithm>
 #include <atomic>
@@ -42,31 +42,32 @@ bool detail::LateMean::add(bool late) {
   return late && mean_ >= 0.2;
 }
 
-int detail::BusyCores::add(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+int detail::OtherCores::add(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total) {
   if (!started_) {
     started_ = true;
-    busy_ = busy, total_ = total;
+    busy_ = busy, own_ = own, total_ = total;
     return -1;
   }
   // Counters that went back (a wrapped or reset counter): start a new window.
-  if (busy < busy_ || total < total_ || busy - busy_ > total - total_) {
-    busy_ = busy, total_ = total;
+  if (busy < busy_ || own < own_ || total < total_ || busy - busy_ > total - total_) {
+    busy_ = busy, own_ = own, total_ = total;
     return last_;
   }
   // Counters advance by the clock tick (1-16 ms): a shorter window would be mostly rounding.
   if (total - total_ < min_total) return last_;
-  const double share = static_cast<double>(busy - busy_) / static_cast<double>(total - total_);
-  busy_ = busy, total_ = total;
-  last_ = static_cast<int>(std::lround(share * cores));
+  // The process's time is counted apart from the machine's, so it can exceed the busy time by a tick.
+  const double others = static_cast<double>(busy - busy_) - static_cast<double>(own - own_);
+  const double share = std::max(0.0, others) / static_cast<double>(total - total_);
+  busy_ = busy, own_ = own, total_ = total;
+  last_ = std::min(cores, static_cast<int>(std::lround(share * cores)));
   return last_;
 }
 
-int detail::busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+int detail::other_cores_now(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total) {
   static std::mutex m;
-  static BusyCores window;
+  static OtherCores window;
   const std::lock_guard<std::mutex> lock(m);
-  const int n = window.add(busy, total, cores, min_total);
-  return n < 0 ? -1 : std::max(1, n);  // the caller is running now, whatever the last window saw
+  return window.add(busy, own, total, cores, min_total);
 }
 
 int detail::cores_within(int limit) {

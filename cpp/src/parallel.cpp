@@ -110,8 +110,7 @@ class LoadProbe {
     const int64_t now = ticks();
     int64_t last = last_.load(std::memory_order_relaxed);
     if (now - last < ticks_of(kSample) || !last_.compare_exchange_strong(last, now)) return;
-    const int runnable = detail::runnable_threads();
-    const int others = runnable < 0 ? -1 : std::max(0, runnable - 1 - awake.load(std::memory_order_relaxed));
+    const int others = detail::other_threads(1 + awake.load(std::memory_order_relaxed));
     const std::lock_guard<std::mutex> lock(m_);
     if (now - last > ticks_of(kStale)) verdict_ = detail::LoadMean();  // old news: the cautious guess
     busy.store(verdict_.add(others, usable_cores()), std::memory_order_relaxed);

@@ -32,7 +32,7 @@ int loop_threads(long items);
 int usable_cores();
 
 // Whether the pool judges the machine busy (other programs leave this process fewer than two
-// cores, sampled from the kernel's runnable count by the threads that start loops; true until
+// cores, sampled by the threads that start loops, see detail::other_threads; true until
 // measured): loops then run serially on their calling thread, and idle workers sleep. Diagnostics.
 bool machine_busy();
 
@@ -57,33 +57,35 @@ int swap_concurrent_limit(int twice_ratio);
 // value that depends on all of them.
 double busy_arithmetic(int rounds);
 void run(int chunks, ChunkFn fn, void* context, long items);
-// Runnable threads on the machine now, the caller included, or -1 if unknown. Linux: the kernel's
-// count from /proc/loadavg. Windows and macOS have no such count: the cores busy since the previous
-// sample (at least ~20 ms before), from their CPU-time counters (BusyCores), at least 1; it cannot
-// exceed the machine's cores, so demand beyond them goes unseen there (the lateness rule, LateMean,
-// still backs off). One file per platform: machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
-int runnable_threads();
+// Threads of other programs that want a core now, or -1 if unknown. Linux: the kernel's runnable
+// count (/proc/loadavg) minus `own_running` (this process's running threads: the caller and the
+// pool's awake workers), at least 0. Windows and macOS have no such count: the cores that other
+// programs kept busy since the previous sample (at least ~20 ms before), i.e. the machine's busy
+// CPU time minus this process's (OtherCores), -1 at the first sample; `own_running` is not used,
+// and demand beyond the cores goes unseen (LateMean still backs off). One file per platform:
+// machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
+int other_threads(int own_running);
 // The processors this process may run on: Linux's affinity mask (taskset, a cpuset), Windows' process
 // affinity mask (its processor group), macOS's active CPUs (it has no masks); -1 if unknown.
 int affinity_cores();
 // hardware_concurrency() (at least 1), limited to `limit` if that is positive.
 int cores_within(int limit);
-// Busy cores over a window, from cumulative CPU-time counters summed over the machine's `cores`
-// (busy and total ticks; Windows' GetSystemTimes, macOS's host_processor_info).
-class BusyCores {
+// The cores other programs kept busy over a window, from cumulative CPU-time counters in one unit:
+// the machine's busy and total time summed over its `cores`, and this process's CPU time (own).
+class OtherCores {
  public:
-  // The busy cores (rounded) over the window since the last one of at least `min_total` ticks: the
-  // previous answer while the window is shorter, and when the counters went back (a new window
-  // starts); -1 at the first call.
-  int add(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
+  // (busy - own) / total x cores over the window since the last one of at least `min_total`,
+  // rounded, within [0, cores]: the previous answer while the window is shorter, and when a
+  // counter went back (a new window starts); -1 at the first call.
+  int add(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total);
 
  private:
   bool started_ = false;
-  uint64_t busy_ = 0, total_ = 0;
+  uint64_t busy_ = 0, own_ = 0, total_ = 0;
   int last_ = -1;
 };
-// BusyCores::add on the process's one window (thread-safe), at least 1 (the caller), -1 at first.
-int busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
+// OtherCores::add on the process's one window (thread-safe).
+int other_cores_now(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total);
 // Cores of a cgroup CPU quota, "QUOTA PERIOD" as in cpu.max ("150000 100000" -> 2, rounded up);
 // 0 for none ("max 100000", v1's "-1 100000") or an unreadable line.
 int quota_cores(const std::string& cpu_max);
