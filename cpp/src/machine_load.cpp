@@ -2,7 +2,6 @@
 // running means it judges by, CPU quotas, other programs' busy cores from CPU-time counters. What each platform
 // reports is in machine_probe_linux.cpp, machine_probe_windows.cpp and machine_probe_macos.cpp.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <sstream>
@@ -73,22 +72,6 @@ int detail::other_cores_now(uint64_t busy, uint64_t own, uint64_t total, int cor
 int detail::cores_within(int limit) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return limit > 0 ? std::min(cores, limit) : cores;
-}
-
-double detail::busy_arithmetic(int rounds) {
-  // 24 independent chains of a multiply and an add keep the floating-point units busy (2 x 24 operations
-  // per ~6 cycles of latency): a few chains would only wait on their own latency and leave room for
-  // a hyper-threaded sibling, which could then not be told from a core of its own.
-  double a[24];
-  for (int j = 0; j < 24; ++j) a[j] = 1.0 + 0.01 * j;
-  for (int r = 0; r < rounds; ++r) {
-    for (double& x : a) x = x * 0.9999999 + 1e-7;
-  }
-  double sum = 0;
-  for (double x : a) sum += x;
-  static std::atomic<double> sink{0};
-  sink.store(sum, std::memory_order_relaxed);
-  return sum;
 }
 
 }  // namespace bdinterp::parallel
