@@ -195,7 +195,9 @@ TEST(Parallel, LoopsRunOnTheCallerWhileOtherProgramsTakeTheCores) {
   // thread (no worker is woken to take turns with the caller), with the same chunks as ever.
   const int cores = parallel::usable_cores();
   const parallel::ThreadLimit frame(0);
-  for (int k = 0; k < 20; ++k) parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  // Up to 0.4 s of loops (a worker awake while idle), for the verdict to leave its cautious start.
+  for (int k = 0; k < 80 && parallel::machine_busy(); ++k)
+    parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
   // Whether the verdict turns, not only starts, busy: on a busy machine it was busy before.
   std::printf("[ busy before the competitors: %d ]\n", parallel::machine_busy() ? 1 : 0);
   const testing::Competitors others(2 * cores);
