@@ -58,17 +58,13 @@ void bind_threading_info(py::module_& m) {
         d["blas"] = file(r.blas);
         d["blas_threads"] = r.blas_threads;
         d["openmp"] = file(r.openmp);
-        const int64_t rt = parallel::detail::core_round_trip_ns();
-        d["core_round_trip_ns"] = rt < 0 ? py::object(py::none()) : py::object(py::int_(rt));
         return d;
       },
       "How bdinterp sees this process's threads: usable_cores (online CPUs within the affinity mask "
       "and the cgroup CPU quota), machine_busy (the pool's last verdict: frames' loops run serially "
       "while other programs leave fewer than two cores), blas (the file of the BLAS CHOLMOD calls, or "
       "None), blas_threads (it is OpenBLAS, held at one thread during every call), openmp (the file "
-      "of the OpenMP runtime CHOLMOD calls, whose teams may shrink to the idle cores; None if none), "
-      "core_round_trip_ns (a cache line's last measured round trip between a frame's thread and a "
-      "pool worker, None before the first; beyond 160 ns small loops run serially).");
+      "of the OpenMP runtime CHOLMOD calls, whose teams may shrink to the idle cores; None if none).");
 }
 
 }  // namespace

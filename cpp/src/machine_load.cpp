@@ -1,8 +1,7 @@
 // What the thread pool knows of the machine (parallel.h, detail), the platform-independent part: the
-// running means it judges by, CPU quotas, busy cores from CPU-time counters. What each platform
+// running means it judges by, CPU quotas, other programs' busy cores from CPU-time counters. What each platform
 // reports is in machine_probe_linux.cpp, machine_probe_windows.cpp and machine_probe_macos.cpp.
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <mutex>
 #include <sstream>
@@ -42,52 +41,37 @@ bool detail::LateMean::add(bool late) {
   return late && mean_ >= 0.2;
 }
 
-int detail::BusyCores::add(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+int detail::OtherCores::add(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total) {
   if (!started_) {
     started_ = true;
-    busy_ = busy, total_ = total;
+    busy_ = busy, own_ = own, total_ = total;
     return -1;
   }
   // Counters that went back (a wrapped or reset counter): start a new window.
-  if (busy < busy_ || total < total_ || busy - busy_ > total - total_) {
-    busy_ = busy, total_ = total;
+  if (busy < busy_ || own < own_ || total < total_ || busy - busy_ > total - total_) {
+    busy_ = busy, own_ = own, total_ = total;
     return last_;
   }
   // Counters advance by the clock tick (1-16 ms): a shorter window would be mostly rounding.
   if (total - total_ < min_total) return last_;
-  const double share = static_cast<double>(busy - busy_) / static_cast<double>(total - total_);
-  busy_ = busy, total_ = total;
-  last_ = static_cast<int>(std::lround(share * cores));
+  // The process's time is counted apart from the machine's, so it can exceed the busy time by a tick.
+  const double others = static_cast<double>(busy - busy_) - static_cast<double>(own - own_);
+  const double share = std::max(0.0, others) / static_cast<double>(total - total_);
+  busy_ = busy, own_ = own, total_ = total;
+  last_ = std::min(cores, static_cast<int>(std::lround(share * cores)));
   return last_;
 }
 
-int detail::busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total) {
+int detail::other_cores_now(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total) {
   static std::mutex m;
-  static BusyCores window;
+  static OtherCores window;
   const std::lock_guard<std::mutex> lock(m);
-  const int n = window.add(busy, total, cores, min_total);
-  return n < 0 ? -1 : std::max(1, n);  // the caller is running now, whatever the last window saw
+  return window.add(busy, own, total, cores, min_total);
 }
 
 int detail::cores_within(int limit) {
   const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return limit > 0 ? std::min(cores, limit) : cores;
-}
-
-double detail::busy_arithmetic(int rounds) {
-  // 24 independent chains of a multiply and an add keep the floating-point units busy (2 x 24 operations
-  // per ~6 cycles of latency): a few chains would only wait on their own latency and leave room for
-  // a hyper-threaded sibling, which could then not be told from a core of its own.
-  double a[24];
-  for (int j = 0; j < 24; ++j) a[j] = 1.0 + 0.01 * j;
-  for (int r = 0; r < rounds; ++r) {
-    for (double& x : a) x = x * 0.9999999 + 1e-7;
-  }
-  double sum = 0;
-  for (double x : a) sum += x;
-  static std::atomic<double> sink{0};
-  sink.store(sum, std::memory_order_relaxed);
-  return sum;
 }
 
 }  // namespace bdinterp::parallel

@@ -55,7 +55,7 @@ int detail::affinity_cores() {
   return sched_getaffinity(0, sizeof set, &set) == 0 ? CPU_COUNT(&set) : -1;
 }
 
-int detail::runnable_threads() {
+int detail::other_threads(int own_running) {
   static const int fd = open("/proc/loadavg", O_RDONLY | O_CLOEXEC);
   char buf[128];
   const ssize_t n = fd < 0 ? -1 : pread(fd, buf, sizeof buf - 1, 0);
@@ -63,7 +63,8 @@ int detail::runnable_threads() {
   buf[n] = 0;
   int running = -1;
   // "0.52 0.58 0.59 3/245 12345": the fourth field is runnable/total.
-  return std::sscanf(buf, "%*s %*s %*s %d/", &running) == 1 ? running : -1;
+  if (std::sscanf(buf, "%*s %*s %*s %d/", &running) != 1) return -1;
+  return std::max(0, running - own_running);
 }
 
 }  // namespace bdinterp::parallel

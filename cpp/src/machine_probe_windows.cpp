@@ -1,8 +1,9 @@
 // The machine as Windows reports it (parallel.h). Run under Wine by `make test-windows`.
-// Windows has no count of runnable threads and no cgroups: the load is the share of the cores that
-// were busy since the previous sample (GetSystemTimes; it cannot exceed the core count, so demand
-// beyond the cores is not seen and the pool's lateness rule covers it), and a job object's CPU rate
-// limit is not read (plain fallback: the affinity mask and the processor count only).
+// Windows has no count of runnable threads and no cgroups: the load is the cores other programs kept
+// busy since the previous sample (GetSystemTimes minus GetProcessTimes: the pool's own threads are
+// not counted; it cannot exceed the core count, so demand beyond the cores is not seen and the
+// pool's lateness rule covers it), and a job object's CPU rate limit is not read (plain fallback:
+// the affinity mask and the processor count only).
 #include "detail/windows.h"
 
 #include <bitset>
@@ -33,13 +34,17 @@ int detail::affinity_cores() {
   return static_cast<int>(std::bitset<64>(static_cast<uint64_t>(process)).count());
 }
 
-int detail::runnable_threads() {
+int detail::other_threads(int) {
   FILETIME idle, kernel, user;  // 100 ns units summed over all processors; kernel time includes idle
-  if (!GetSystemTimes(&idle, &kernel, &user)) return -1;
+  FILETIME created, exited, own_kernel, own_user;  // this process's threads, the same units
+  if (!GetSystemTimes(&idle, &kernel, &user) ||
+      !GetProcessTimes(GetCurrentProcess(), &created, &exited, &own_kernel, &own_user))
+    return -1;
   const uint64_t total = ticks_of(kernel) + ticks_of(user);
   const int cores = machine_cores();
   // A window of at least 20 ms per core: the counters advance by the clock tick (~16 ms).
-  return busy_cores_now(total - ticks_of(idle), total, cores, 200000ull * cores);
+  return other_cores_now(total - ticks_of(idle), ticks_of(own_kernel) + ticks_of(own_user), total, cores,
+                         200000ull * cores);
 }
 
 }  // namespace bdinterp::parallel

@@ -21,10 +21,8 @@ namespace {
 
 // The library that this code's (and so CHOLMOD's) references to `symbol` bind to, or nullptr.
 // dlsym(RTLD_DEFAULT) from here searches the global scope and then this object's own dependencies:
-// the order the loader resolved CHOLMOD's references in. By soname ("libgomp.so.1") the lookup
-// missed the shipped modules' private copies (libgomp-bdi.so.1, libblas-bdi.so.3, bundled next to
-// the module, scripts/bundle_libs.py), and inside Debian's Blender found Blender's OpenBLAS only by
-// chance; this way it is the one CHOLMOD calls, wherever it came from.
+// the order the loader resolved CHOLMOD's references in, so the shipped modules' privately named
+// copies (libgomp-bdi.so.1, scripts/bundle_libs.py) are found too, which a lookup by soname missed.
 struct Library {
   void* handle = nullptr;
   std::string file;

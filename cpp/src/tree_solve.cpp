@@ -161,8 +161,7 @@ void scatter(const FactorView& L, const double* y, TreeSolve::Range r, int k, do
 // Forward substitution over the columns of r: each divides by its diagonal and updates the rows
 // below it, the first inside_[j] directly, the rest (the top's rows) in `buf`. Two columns with one
 // pattern (chain_, as in the separators' dense blocks) go together, so each row they update is
-// read and written once for both, as in CHOLMOD's own simplicial solves (one-thread runs of the
-// split: without it 1.6x CHOLMOD's time at 5k rows, with it ...).
+// read and written once for both, as in CHOLMOD's own simplicial solves (docs/BENCHMARKS.md).
 template <int K>
 void TreeSolve::forward(const FactorView& L, Range r, int nc, double* y, double* buf) const {
   const int k = K > 0 ? K : nc;

@@ -240,10 +240,7 @@ def test_threading_info_names_the_runtimes_cholmod_calls():
     # Debian's CHOLMOD calls OpenBLAS and libgomp: bdinterp must find the very libraries it binds
     # to (their thread controls are what keeps frames off other programs' cores).
     info = bdinterp.threading_info()
-    assert set(info) == {"usable_cores", "machine_busy", "blas", "blas_threads", "openmp",
-                         "core_round_trip_ns"}
-    rt = info["core_round_trip_ns"]
-    assert rt is None or 0 < rt < 100_000  # a cache line's trip, not a scheduler's (C++ tests measure it)
+    assert set(info) == {"usable_cores", "machine_busy", "blas", "blas_threads", "openmp"}
     assert 1 <= info["usable_cores"] <= len(os.sched_getaffinity(0))
     assert isinstance(info["machine_busy"], bool)
     assert info["openmp"] and "libgomp" in os.path.basename(info["openmp"])

@@ -2,14 +2,12 @@
 // chunks run by a small pool of its own (std::thread; idle workers spin through a frame while the
 // machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
 // solves one frame per core. The triangular solves split the same way (src/detail/tree_solve.h).
-// Loops run serially on their calling thread, with the same chunks, while other programs take the
-// cores (machine_busy) and, when small, while the two cores do not pay (detail::core_round_trip_ns).
-//
-// Why not OpenMP: on a busy machine (another program on one of the two cores) libgomp's fixed
-// split made every loop wait for the thread that shared its core, and its threads spin while they
-// wait (docs/BENCHMARKS.md, "Busy machine"). Here the calling thread takes chunks too, so a chunk
-// whose worker has not been scheduled is simply done by the caller: a frame is never slower than
-// the serial loop by more than the wake-up, and results do not depend on who ran which chunk.
+// A LoopPolicy (parallel.cpp) runs a loop serially on its calling thread, with the same chunks,
+// when it is small, while other programs take the cores (machine_busy) or while chunks come back
+// late.
+// Why not OpenMP: beside another busy program libgomp's fixed split made every loop wait for the
+// thread that shared its core (docs/BENCHMARKS.md, "Busy machine"); here the caller takes chunks
+// too, so a frame is never slower than the serial loop by more than the wake-up.
 #pragma once
 
 #include <cstdint>
@@ -32,7 +30,7 @@ int loop_threads(long items);
 int usable_cores();
 
 // Whether the pool judges the machine busy (other programs leave this process fewer than two
-// cores, sampled from the kernel's runnable count by the threads that start loops; true until
+// cores, sampled by the threads that start loops, see detail::other_threads; true until
 // measured): loops then run serially on their calling thread, and idle workers sleep. Diagnostics.
 bool machine_busy();
 
@@ -42,48 +40,38 @@ std::pair<long, long> share(long n, int chunk, int chunks);
 
 namespace detail {
 using ChunkFn = void (*)(void* context, int chunk);
-// The last measured round trip of a cache line between a thread starting a loop and a spinning
-// pool worker, in ns (-1 before the first). Beyond the threshold (160 ns; the previous value is
-// returned by the swap, for tests) loops run serially on their calling thread until the next
-// measurement, 100 ms later: see kProbeEvery in parallel.cpp.
-int64_t core_round_trip_ns();
-int64_t swap_far_round_trip_ns(int64_t ns);
-// Whether the last probe found two threads running at once (two chunks of arithmetic on the caller
-// and a worker in less than 1.5x the time of one; not so on one core's two hyper-threads): small
-// loops run serially until the next probe otherwise. The limit is twice that ratio (3; for tests).
-bool cores_run_at_once();
-int swap_concurrent_limit(int twice_ratio);
-// ~rounds x 48 floating-point operations with no memory traffic (the probe's chunk); returns a
-// value that depends on all of them.
-double busy_arithmetic(int rounds);
+// parallel::run without the template: fn(context, chunk) for every chunk (items: the loop's size,
+// 0 if unknown). The entry point for code that builds its own chunk functions.
 void run(int chunks, ChunkFn fn, void* context, long items);
-// Runnable threads on the machine now, the caller included, or -1 if unknown. Linux: the kernel's
-// count from /proc/loadavg. Windows and macOS have no such count: the cores busy since the previous
-// sample (at least ~20 ms before), from their CPU-time counters (BusyCores), at least 1; it cannot
-// exceed the machine's cores, so demand beyond them goes unseen there (the lateness rule, LateMean,
-// still backs off). One file per platform: machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
-int runnable_threads();
+// Threads of other programs that want a core now, or -1 if unknown. Linux: the kernel's runnable
+// count (/proc/loadavg) minus `own_running` (this process's running threads: the caller and the
+// pool's awake workers), at least 0. Windows and macOS have no such count: the cores that other
+// programs kept busy since the previous sample (at least ~20 ms before), i.e. the machine's busy
+// CPU time minus this process's (OtherCores), -1 at the first sample; `own_running` is not used,
+// and demand beyond the cores goes unseen (LateMean still backs off). One file per platform:
+// machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
+int other_threads(int own_running);
 // The processors this process may run on: Linux's affinity mask (taskset, a cpuset), Windows' process
 // affinity mask (its processor group), macOS's active CPUs (it has no masks); -1 if unknown.
 int affinity_cores();
 // hardware_concurrency() (at least 1), limited to `limit` if that is positive.
 int cores_within(int limit);
-// Busy cores over a window, from cumulative CPU-time counters summed over the machine's `cores`
-// (busy and total ticks; Windows' GetSystemTimes, macOS's host_processor_info).
-class BusyCores {
+// The cores other programs kept busy over a window, from cumulative CPU-time counters in one unit:
+// the machine's busy and total time summed over its `cores`, and this process's CPU time (own).
+class OtherCores {
  public:
-  // The busy cores (rounded) over the window since the last one of at least `min_total` ticks: the
-  // previous answer while the window is shorter, and when the counters went back (a new window
-  // starts); -1 at the first call.
-  int add(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
+  // (busy - own) / total x cores over the window since the last one of at least `min_total`,
+  // rounded, within [0, cores]: the previous answer while the window is shorter, and when a
+  // counter went back (a new window starts); -1 at the first call.
+  int add(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total);
 
  private:
   bool started_ = false;
-  uint64_t busy_ = 0, total_ = 0;
+  uint64_t busy_ = 0, own_ = 0, total_ = 0;
   int last_ = -1;
 };
-// BusyCores::add on the process's one window (thread-safe), at least 1 (the caller), -1 at first.
-int busy_cores_now(uint64_t busy, uint64_t total, int cores, uint64_t min_total);
+// OtherCores::add on the process's one window (thread-safe).
+int other_cores_now(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total);
 // Cores of a cgroup CPU quota, "QUOTA PERIOD" as in cpu.max ("150000 100000" -> 2, rounded up);
 // 0 for none ("max 100000", v1's "-1 100000") or an unreadable line.
 int quota_cores(const std::string& cpu_max);
@@ -119,8 +107,7 @@ class LateMean {
 // returns when all have returned. Chunks may run in any order and on any thread; a body must only
 // depend on its chunk index (results are then bit-identical for a given number of chunks). Bodies
 // must not throw. Nested or concurrent calls run their chunks serially on the calling thread.
-// items: the loop's size (0: unknown, counted as small); while the cores are far apart (see
-// detail::core_round_trip_ns) only loops of at least 20000 items use the pool.
+// items: the loop's size (0: unknown); loops of a known size under 500 run on the calling thread.
 template <class Body>
 void run(int chunks, Body&& body, long items = 0) {
   if (chunks <= 1) {
@@ -143,12 +130,8 @@ void for_each(int chunks, long n, Body&& body) {
 }
 
 // While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
-// thread: bdinterp's own pool splits the loops of a frame, frames() already keeps every core busy
-// with one frame per worker, and BLAS threads on top only compete. OpenBLAS's idle threads yield-
-// spin for a while after each call: at 50k vertices one of them took the second core from the
-// pool's worker through every warm frame (39 % of its time in sched_yield), and its runnable state
-// made the pool judge an idle machine busy. One thread cost the factorisation nothing measurable
-// (50k: 50-68 ms against 50-59 ms; 500k: 650-760 against 635-711 ms, interleaved on 2 cores).
+// thread: the pool already splits a frame's loops, and OpenBLAS's idle threads yield-spin after
+// each call, taking the pool's core and making an idle machine look busy (docs/BENCHMARKS.md).
 // Every ThreadLimit holds one. The setting is process-wide: the first object alive saves the
 // count and sets 1, the last restores it (so numpy in another thread of the same process runs on
 // one BLAS thread for that moment). No-op where CHOLMOD's BLAS is not OpenBLAS.
