@@ -10,9 +10,9 @@
 #include <random>
 #include <vector>
 
-#include "bdinterp/flatten.h"
-#include "bdinterp/holes.h"
-#include "bdinterp/metric_blend.h"
+#include "flatten.h"
+#include "holes.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
