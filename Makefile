@@ -44,6 +44,9 @@ test-cpp: build
 	cmake -S examples/cpp -B $(BUILD)/cpp-example -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
 	cmake --build $(BUILD)/cpp-example
 	$(BUILD)/cpp-example/bend_bar
+	# the public API is self-contained: every installed header compiles on its own
+	for h in $(BUILD)/prefix/include/bdinterp/*.h; do echo "#include \"bdinterp/$$(basename $$h)\"" | \
+	  $(CXX) -std=c++17 -fsyntax-only -x c++ -I$(BUILD)/prefix/include -I/usr/include/eigen3 - || exit 1; done
 	# its version file accepts 0.x.* and refuses 0.(x+1); tests are off for add_subdirectory users
 	cmake -S cmake/tests/version -B $(BUILD)/version-ok -DWANT=$(VERSION) -DEXPECT_FOUND=1 \
 	      -DCMAKE_PREFIX_PATH=$(CURDIR)/$(BUILD)/prefix >/dev/null
@@ -119,7 +122,7 @@ test-libcxx: setup  ## the C++ suite with clang and libc++ (Apple's C++ library)
 	$(BUILD)/libcxx/bdinterp_tests
 	# macOS's probes: compiled against declarations of Apple's calls only (tests/cpp/macos_sdk), not run
 	$(CLANGXX) -std=c++17 -stdlib=libc++ -Wall -Wextra -Werror -fsyntax-only -D__APPLE__ \
-	      -Itests/cpp/macos_sdk -Icpp/include cpp/src/machine_probe_macos.cpp
+	      -Itests/cpp/macos_sdk -Icpp/include -Icpp/src cpp/src/machine_probe_macos.cpp
 
 test-wheel-source: suitesparse  ## the wheels workflow's linux-x64 build commands; its wheel's Python suite
 	bash scripts/test-wheel-source.sh $(BUILD)/wheel-source $(SUITESPARSE)
@@ -145,7 +148,7 @@ FUZZ_SECONDS ?= 60
 FUZZ_BUILD   ?= build-fuzz
 FUZZ_TARGETS  = fuzz_raw_input fuzz_disk_targets
 SANITIZE      = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
-FUZZ_FLAGS    = -std=c++17 -O1 -g $(SANITIZE) -Icpp/include -Itests/cpp -I/usr/include/eigen3 \
+FUZZ_FLAGS    = -std=c++17 -O1 -g $(SANITIZE) -Icpp/include -Icpp/src -Itests/cpp -I/usr/include/eigen3 \
                 -I/usr/include/suitesparse
 # the Linux build's sources: the Windows and macOS probes do not compile here
 FUZZ_SOURCES  = $(filter-out cpp/src/machine_probe_windows.cpp cpp/src/machine_probe_macos.cpp,$(wildcard cpp/src/*.cpp))
@@ -153,7 +156,7 @@ FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(FUZZ_SOURCES))
 
 .PHONY: fuzz fuzz-build fuzz-known asan
 .SECONDARY: $(FUZZ_OBJECTS)
-$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/detail/*.h)
+$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/*.h cpp/src/detail/*.h)
 	@mkdir -p $(FUZZ_BUILD)
 	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
 $(FUZZ_BUILD)/%: tests/fuzz/%.cpp tests/fuzz/fuzz_common.h $(FUZZ_OBJECTS)

@@ -26,11 +26,11 @@
 
 #include "bdinterp/baselines.h"
 #include "bdinterp/distortion.h"
-#include "bdinterp/flatten.h"
+#include "flatten.h"
 #include "bdinterp/interpolator.h"
-#include "bdinterp/mesh.h"
-#include "bdinterp/metric_blend.h"
-#include "bdinterp/parallel.h"
+#include "mesh.h"
+#include "metric_blend.h"
+#include "parallel.h"
 #include "busy.h"
 #include "test_meshes.h"
 

@@ -1,6 +1,6 @@
 #include "busy.h"
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 #include <signal.h>
 #include <sys/wait.h>

@@ -1,14 +1,14 @@
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 
-#include "bdinterp/geometry.h"
-#include "bdinterp/parallel.h"
-#include "bdinterp/rigid_motion.h"
-#include "bdinterp/triangle.h"
+#include "geometry.h"
+#include "parallel.h"
+#include "rigid_motion.h"
+#include "triangle.h"
 #include "detail/turns.h"
 
 namespace bdinterp {

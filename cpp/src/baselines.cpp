@@ -5,10 +5,10 @@
 #include <cmath>
 #include <sstream>
 
-#include "bdinterp/anchor.h"
-#include "bdinterp/geometry.h"
-#include "bdinterp/metric_blend.h"
-#include "bdinterp/sparse_cholesky.h"
+#include "anchor_frame.h"
+#include "geometry.h"
+#include "metric_blend.h"
+#include "sparse_cholesky.h"
 
 namespace bdinterp {
 

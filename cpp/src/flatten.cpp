@@ -1,4 +1,4 @@
-#include "bdinterp/flatten.h"
+#include "flatten.h"
 
 #include <algorithm>
 #include <cmath>

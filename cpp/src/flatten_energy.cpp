@@ -3,8 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bdinterp/lobachevsky.h"
-#include "bdinterp/triangle.h"
+#include "lobachevsky.h"
+#include "triangle.h"
 #include "detail/turns.h"
 
 namespace bdinterp::detail {

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "bdinterp/flatten.h"
+#include "flatten.h"
 #include "detail/flatten_state.h"
 #include "detail/refining.h"
 

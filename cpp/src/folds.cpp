@@ -1,13 +1,13 @@
 // The fold region (folds.h): seeds, growth until the rest is a manifold whose loops turn as in the
 // base. Reasoning and measurements: docs/FOLDS.md.
-#include "bdinterp/folds.h"
+#include "folds.h"
 
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 
-#include "bdinterp/geometry.h"
-#include "detail/folds.h"
+#include "geometry.h"
+#include "detail/fold_fill.h"
 
 namespace bdinterp {
 namespace {

@@ -10,10 +10,10 @@
 #include <queue>
 #include <utility>
 
-#include "bdinterp/folds.h"
-#include "bdinterp/geometry.h"
-#include "bdinterp/sparse_cholesky.h"
-#include "detail/folds.h"
+#include "folds.h"
+#include "geometry.h"
+#include "sparse_cholesky.h"
+#include "detail/fold_fill.h"
 #include "detail/turns.h"
 
 namespace bdinterp {

@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
-#include "bdinterp/folds.h"
+#include "folds.h"
 #include "bdinterp/interpolator.h"
-#include "bdinterp/joints.h"
+#include "joints.h"
 
 namespace bdinterp::detail {
 

@@ -1,6 +1,6 @@
 // The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener, and the
 // closure of their translation periods by Newton on the dipoles around the convex solves.
-#include "bdinterp/holes.h"
+#include "holes.h"
 
 #include <Eigen/Cholesky>
 #include <Eigen/LU>
@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bdinterp/geometry.h"
+#include "geometry.h"
 
 namespace bdinterp {
 namespace {

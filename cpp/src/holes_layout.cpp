@@ -5,8 +5,8 @@
 #include <cmath>
 #include <complex>
 
-#include "bdinterp/holes.h"
-#include "bdinterp/triangle.h"
+#include "holes.h"
+#include "triangle.h"
 
 namespace bdinterp {
 namespace {

@@ -8,8 +8,8 @@
 #include <limits>
 #include <sstream>
 
-#include "bdinterp/orientation.h"
-#include "bdinterp/parallel.h"
+#include "orientation.h"
+#include "parallel.h"
 #include "detail/validation.h"
 #include "frame_passes.h"
 #include "piece_solver.h"

@@ -1,4 +1,4 @@
-#include "bdinterp/joints.h"
+#include "joints.h"
 
 #include <Eigen/Geometry>
 #include <algorithm>
@@ -7,8 +7,8 @@
 #include <numeric>
 #include <queue>
 
-#include "bdinterp/geometry.h"
-#include "bdinterp/rigid_motion.h"
+#include "geometry.h"
+#include "rigid_motion.h"
 #include "detail/turns.h"
 
 namespace bdinterp {

@@ -1,9 +1,9 @@
-#include "bdinterp/layout.h"
+#include "layout.h"
 
 #include <cmath>
 
-#include "bdinterp/parallel.h"
-#include "bdinterp/triangle.h"
+#include "parallel.h"
+#include "triangle.h"
 
 namespace bdinterp {
 namespace {

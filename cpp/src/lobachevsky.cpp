@@ -1,4 +1,4 @@
-#include "bdinterp/lobachevsky.h"
+#include "lobachevsky.h"
 
 #include "bdinterp/types.h"
 

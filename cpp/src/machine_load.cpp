@@ -8,7 +8,7 @@
 #include <string>
 #include <thread>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 int detail::quota_cores(const std::string& cpu_max) {

@@ -9,7 +9,7 @@
 #include <fstream>
 #include <string>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 namespace {

@@ -15,7 +15,7 @@
 
 #include <cstdint>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 namespace {

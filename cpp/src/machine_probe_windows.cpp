@@ -9,7 +9,7 @@
 #include <bitset>
 #include <cstdint>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 namespace {

@@ -1,4 +1,4 @@
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <numeric>
 #include <sstream>
 
-#include "bdinterp/sparse_cholesky.h"
+#include "sparse_cholesky.h"
 
 namespace bdinterp {
 namespace {

@@ -1,9 +1,9 @@
-#include "bdinterp/metric_blend.h"
+#include "metric_blend.h"
 
 #include <cmath>
 #include <sstream>
 
-#include "bdinterp/geometry.h"
+#include "geometry.h"
 
 namespace bdinterp {
 

@@ -1,8 +1,8 @@
-#include "bdinterp/orientation.h"
+#include "orientation.h"
 
 #include <sstream>
 
-#include "bdinterp/geometry.h"
+#include "geometry.h"
 
 namespace bdinterp {
 

@@ -1,6 +1,6 @@
 // The pool of parallel.h: one job at a time, chunks claimed by the caller and the workers; the
 // LoopPolicy decides whether a loop uses it. Measurements: docs/BENCHMARKS.md, "Busy machine".
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 #ifndef _WIN32
 #include <pthread.h>  // pthread_atfork

@@ -2,7 +2,7 @@
 // do not depend on which thread ran which chunk.
 #include <algorithm>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 

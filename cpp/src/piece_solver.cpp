@@ -1,9 +1,9 @@
 #include "piece_solver.h"
 
-#include "bdinterp/geometry.h"
-#include "bdinterp/metric_blend.h"
-#include "bdinterp/rigid_motion.h"
-#include "bdinterp/still.h"
+#include "geometry.h"
+#include "metric_blend.h"
+#include "rigid_motion.h"
+#include "still.h"
 
 namespace bdinterp::detail {
 namespace {

@@ -9,11 +9,11 @@
 #include <memory>
 #include <vector>
 
-#include "bdinterp/anchor.h"
-#include "bdinterp/flatten.h"
-#include "bdinterp/holes.h"
-#include "bdinterp/layout.h"
-#include "bdinterp/mesh.h"
+#include "anchor_frame.h"
+#include "flatten.h"
+#include "holes.h"
+#include "layout.h"
+#include "mesh.h"
 #include "detail/warm_start.h"
 
 namespace bdinterp::detail {

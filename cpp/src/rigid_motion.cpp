@@ -1,9 +1,9 @@
-#include "bdinterp/rigid_motion.h"
+#include "rigid_motion.h"
 
 #include <cmath>
 #include <complex>
 
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 #include "bdinterp/types.h"
 
 namespace bdinterp {

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::parallel {
 namespace {

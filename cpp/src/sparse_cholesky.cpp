@@ -1,4 +1,4 @@
-#include "bdinterp/sparse_cholesky.h"
+#include "sparse_cholesky.h"
 
 #include <cholmod.h>
 
@@ -7,7 +7,7 @@
 #include <cstring>
 #include <string>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 #include "detail/tree_solve.h"
 
 namespace bdinterp {

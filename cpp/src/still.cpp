@@ -1,9 +1,9 @@
-#include "bdinterp/still.h"
+#include "still.h"
 
 #include <algorithm>
 #include <cmath>
 
-#include "bdinterp/geometry.h"
+#include "geometry.h"
 
 namespace bdinterp {
 

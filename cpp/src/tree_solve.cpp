@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <numeric>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp::detail {
 namespace {

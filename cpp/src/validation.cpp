@@ -4,8 +4,8 @@
 #include <cmath>
 #include <sstream>
 
-#include "bdinterp/geometry.h"
-#include "bdinterp/metric_blend.h"
+#include "geometry.h"
+#include "metric_blend.h"
 
 namespace bdinterp::detail {
 namespace {

@@ -8,7 +8,7 @@
 #include <string>
 
 #ifdef _WIN32
-#include "../../cpp/src/detail/windows.h"
+#include "detail/windows.h"
 #else
 #include <signal.h>
 #include <sys/wait.h>

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <utility>
 
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 #include "bdinterp/interpolator.h"
-#include "bdinterp/rigid_motion.h"
+#include "rigid_motion.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "bdinterp/interpolator.h"
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

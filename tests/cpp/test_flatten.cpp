@@ -3,9 +3,9 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "bdinterp/flatten.h"
-#include "bdinterp/metric_blend.h"
-#include "../../cpp/src/detail/flatten_energy.h"
+#include "flatten.h"
+#include "metric_blend.h"
+#include "detail/flatten_energy.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

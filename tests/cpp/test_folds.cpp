@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "bdinterp/folds.h"
-#include "bdinterp/geometry.h"
+#include "folds.h"
+#include "geometry.h"
 #include "bdinterp/interpolator.h"
-#include "../../cpp/src/detail/folds.h"
+#include "detail/fold_fill.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

@@ -10,10 +10,10 @@
 #include <random>
 #include <vector>
 
-#include "../../cpp/src/detail/warm_start.h"
-#include "bdinterp/flatten.h"
-#include "bdinterp/holes.h"
-#include "bdinterp/metric_blend.h"
+#include "detail/warm_start.h"
+#include "flatten.h"
+#include "holes.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

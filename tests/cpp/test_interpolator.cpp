@@ -2,11 +2,11 @@
 
 #include <Eigen/Dense>
 
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 #include "bdinterp/baselines.h"
 #include "bdinterp/distortion.h"
 #include "bdinterp/interpolator.h"
-#include "bdinterp/metric_blend.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

@@ -2,9 +2,9 @@
 
 #include <Eigen/Dense>
 
-#include "bdinterp/flatten.h"
-#include "bdinterp/layout.h"
-#include "bdinterp/metric_blend.h"
+#include "flatten.h"
+#include "layout.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

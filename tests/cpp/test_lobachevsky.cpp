@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "bdinterp/lobachevsky.h"
+#include "lobachevsky.h"
 
 namespace bdinterp {
 namespace {

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <thread>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 
 namespace bdinterp {
 namespace {

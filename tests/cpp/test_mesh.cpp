@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

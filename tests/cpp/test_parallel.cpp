@@ -23,7 +23,7 @@
 #include <thread>
 #include <vector>
 
-#include "bdinterp/parallel.h"
+#include "parallel.h"
 #include "competitors.h"
 
 namespace bdinterp {

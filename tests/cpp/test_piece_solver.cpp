@@ -4,9 +4,9 @@
 
 #include <Eigen/Dense>
 
-#include "../../cpp/src/piece_solver.h"
+#include "piece_solver.h"
 #include "bdinterp/interpolator.h"
-#include "bdinterp/metric_blend.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

@@ -6,9 +6,9 @@
 #include <cmath>
 #include <vector>
 
-#include "../../cpp/src/detail/turns.h"
-#include "bdinterp/geometry.h"
-#include "bdinterp/sparse_cholesky.h"
+#include "detail/turns.h"
+#include "geometry.h"
+#include "sparse_cholesky.h"
 #include "test_checks.h"
 
 namespace bdinterp {

@@ -6,11 +6,11 @@
 #include <random>
 #include <thread>
 
-#include "../../cpp/src/detail/refactor_policy.h"
-#include "../../cpp/src/detail/turns.h"
-#include "../../cpp/src/detail/warm_start.h"
-#include "bdinterp/flatten.h"
-#include "bdinterp/metric_blend.h"
+#include "detail/refactor_policy.h"
+#include "detail/turns.h"
+#include "detail/warm_start.h"
+#include "flatten.h"
+#include "metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

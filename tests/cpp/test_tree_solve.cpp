@@ -7,9 +7,9 @@
 #include <functional>
 #include <random>
 
-#include "../../cpp/src/detail/tree_solve.h"
-#include "bdinterp/parallel.h"
-#include "bdinterp/sparse_cholesky.h"
+#include "detail/tree_solve.h"
+#include "parallel.h"
+#include "sparse_cholesky.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

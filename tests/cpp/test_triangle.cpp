@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "bdinterp/triangle.h"
+#include "triangle.h"
 
 namespace bdinterp {
 namespace {

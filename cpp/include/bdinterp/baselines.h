@@ -5,7 +5,7 @@
 #include <memory>
 #include <vector>
 
-#include "bdinterp/mesh.h"
+#include "bdinterp/types.h"
 
 namespace bdinterp {
 

@@ -8,10 +8,11 @@
 #include <vector>
 
 #include "bdinterp/anchor.h"
-#include "bdinterp/flatten.h"
+#include "bdinterp/flatten_options.h"
 
 namespace bdinterp {
 
+class Mesh;  // mesh.h (private)
 namespace detail {
 struct PiecePlan;    // piece_solver.h
 class PieceSolver;   // piece_solver.h

@@ -6,8 +6,8 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "bdinterp/flatten.h"
-#include "bdinterp/parallel.h"
+#include "flatten.h"
+#include "parallel.h"
 
 namespace bdinterp::detail {
 

@@ -5,7 +5,7 @@
 #include <optional>
 #include <vector>
 
-#include "bdinterp/flatten.h"
+#include "flatten.h"
 #include "flatten_energy.h"
 #include "pcg.h"
 #include "refactor_policy.h"

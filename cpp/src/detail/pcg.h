@@ -3,7 +3,7 @@
 
 #include <Eigen/Core>
 
-#include "bdinterp/sparse_cholesky.h"
+#include "sparse_cholesky.h"
 
 namespace bdinterp::detail {
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <utility>
 
-#include "bdinterp/flatten.h"
+#include "flatten.h"
 #include "bdinterp/types.h"
 
 namespace bdinterp::detail {

@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "bdinterp/triangle.h"
+#include "triangle.h"
 #include "bdinterp/types.h"
 
 namespace bdinterp::detail {

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "bdinterp/interpolator.h"
+#include "mesh.h"
 
 namespace bdinterp::detail {
 

@@ -8,7 +8,7 @@
 
 #include <vector>
 
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 
 namespace bdinterp {
 

@@ -19,8 +19,8 @@
 #include <memory>
 #include <vector>
 
-#include "bdinterp/mesh.h"
-#include "bdinterp/sparse_cholesky.h"
+#include "mesh.h"
+#include "sparse_cholesky.h"
 
 namespace bdinterp {
 

@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 
 namespace bdinterp {
 

@@ -10,7 +10,7 @@
 #include <array>
 #include <vector>
 
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 #include "bdinterp/types.h"
 
 namespace bdinterp {

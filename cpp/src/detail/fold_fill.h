@@ -7,9 +7,9 @@
 #include <cmath>
 #include <vector>
 
-#include "bdinterp/folds.h"
-#include "bdinterp/geometry.h"
-#include "bdinterp/mesh.h"
+#include "folds.h"
+#include "geometry.h"
+#include "mesh.h"
 
 namespace bdinterp::detail {
 

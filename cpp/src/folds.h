@@ -12,7 +12,7 @@
 #include <mutex>
 #include <vector>
 
-#include "bdinterp/mesh.h"
+#include "mesh.h"
 
 namespace bdinterp {
 

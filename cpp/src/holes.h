@@ -23,9 +23,9 @@
 #include <utility>
 #include <vector>
 
-#include "bdinterp/flatten.h"
-#include "bdinterp/mesh.h"
-#include "bdinterp/sparse_cholesky.h"
+#include "flatten.h"
+#include "mesh.h"
+#include "sparse_cholesky.h"
 
 namespace bdinterp {
 

@@ -9,7 +9,7 @@
 
 #include <vector>
 
-#include "bdinterp/anchor.h"
+#include "anchor_frame.h"
 
 namespace bdinterp {
 
