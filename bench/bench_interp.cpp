@@ -20,18 +20,17 @@
 #include <cstring>
 #include <map>
 #include <memory>
-#include <random>
 #include <string>
 #include <vector>
 
 #include "bdinterp/baselines.h"
 #include "bdinterp/distortion.h"
-#include "flatten.h"
 #include "bdinterp/interpolator.h"
+#include "busy.h"
+#include "flatten.h"
 #include "mesh.h"
 #include "metric_blend.h"
 #include "parallel.h"
-#include "busy.h"
 #include "test_meshes.h"
 
 namespace bd = bdinterp;
@@ -282,52 +281,47 @@ class Collector : public benchmark::ConsoleReporter {
   }
 
  private:
-  static std::string key(const Run& r) {
-    std::string name = r.run_name.function_name.substr(3);  // drop "BM_"
-    return name + "/" + r.run_name.args;
-  }
+  static std::string key(const Run& r) { return r.run_name.function_name.substr(3) + "/" + r.run_name.args; }
 };
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  const bench::MakeInterpolator make = [](int n) {
-    const BenchMesh m = make_mesh(n);
-    return std::make_unique<bd::Interpolator>(std::vector<bd::Positions>{m.source, m.target}, m.F);
-  };
-  bench::compete(argc, argv, make);
+struct Options {
   std::vector<int> sizes{5000, 50000, 500000}, big, busy{1000, 5000};
   int reps = 5;
-  std::vector<char*> rest{argv[0]};
-  auto parse_list = [](const char* s) {
-    std::vector<int> out;
-    for (const char* p = s; *p;) {
-      out.push_back(std::atoi(p));
-      while (*p && *p != ',') ++p;
-      if (*p == ',') ++p;
-    }
-    return out;
-  };
-  for (int i = 1; i < argc; ++i) {
-    if (!std::strncmp(argv[i], "--sizes=", 8)) sizes = parse_list(argv[i] + 8);
-    else if (!std::strncmp(argv[i], "--big=", 6)) big = parse_list(argv[i] + 6);
-    else if (!std::strncmp(argv[i], "--reps=", 7)) reps = std::atoi(argv[i] + 7);
-    else if (!std::strncmp(argv[i], "--busy=", 7)) busy = parse_list(argv[i] + 7);
-    else rest.push_back(argv[i]);
-  }
-  // Memory first, from a small parent process.
-  std::map<int, double> memory;
-  for (int n : sizes) memory[n] = peak_memory_bytes(n);
-  for (int n : big) memory[n] = peak_memory_bytes(n);
+  std::vector<char*> rest;  // for Google Benchmark
+};
 
+std::vector<int> parse_list(const char* s) {
+  std::vector<int> out;
+  for (const char* p = s; *p;) {
+    out.push_back(std::atoi(p));
+    while (*p && *p != ',') ++p;
+    if (*p == ',') ++p;
+  }
+  return out;
+}
+
+Options parse_options(int argc, char** argv) {
+  Options o;
+  o.rest.push_back(argv[0]);
+  for (int i = 1; i < argc; ++i) {
+    if (!std::strncmp(argv[i], "--sizes=", 8)) o.sizes = parse_list(argv[i] + 8);
+    else if (!std::strncmp(argv[i], "--big=", 6)) o.big = parse_list(argv[i] + 6);
+    else if (!std::strncmp(argv[i], "--reps=", 7)) o.reps = std::atoi(argv[i] + 7);
+    else if (!std::strncmp(argv[i], "--busy=", 7)) o.busy = parse_list(argv[i] + 7);
+    else o.rest.push_back(argv[i]);
+  }
+  return o;
+}
+
+void register_benchmarks(const Options& o) {
   auto reg = [&](const char* name, void (*fn)(benchmark::State&), int n, int threads = -1) {
     auto* b = benchmark::RegisterBenchmark(name, fn);
     if (threads >= 0) b->Args({n, threads}); else b->Arg(n);
-    b->Unit(benchmark::kMillisecond)->Repetitions(reps)->ReportAggregatesOnly(true)->UseRealTime();
+    b->Unit(benchmark::kMillisecond)->Repetitions(o.reps)->ReportAggregatesOnly(true)->UseRealTime();
     if (n >= 200000) b->Iterations(n >= 800000 ? 1 : 3);
     else b->MinTime(n >= 20000 ? 0.3 : 0.2);
   };
-  for (int n : sizes) {
+  for (int n : o.sizes) {
     reg("BM_Floor", BM_Floor, n);
     reg("BM_Linear", BM_Linear, n);
     reg("BM_Poisson", BM_Poisson, n);
@@ -338,53 +332,68 @@ int main(int argc, char** argv) {
       reg("BM_Bake", BM_Bake, n, 2);
     }
   }
-  for (int n : big) {
+  for (int n : o.big) {
     reg("BM_Floor", BM_Floor, n);
     reg("BM_Warm", BM_Warm, n);
   }
-  int rargc = static_cast<int>(rest.size());
-  benchmark::Initialize(&rargc, rest.data());
+}
+
+// One summary row: the medians of size n's benchmarks and their ratios to the floor.
+void print_row(const Collector& collector, int n, double memory) {
+  auto get = [&](const std::string& name) -> const Collector::Entry* {
+    auto it = collector.medians.find(name + "/" + std::to_string(n));
+    return it == collector.medians.end() ? nullptr : &it->second;
+  };
+  auto ms = [&](const std::string& name) { const auto* e = get(name); return e ? e->ms : NAN; };
+  auto counter = [&](const std::string& name, const char* c) {
+    const auto* e = get(name);
+    return e && e->counters.count(c) ? e->counters.at(c) : NAN;
+  };
+  const Case& c = *cases()[n];
+  const double floor_ms = ms("Floor"), warm = ms("Warm"), cold = ms("Cold");
+  double bake_ms = NAN;
+  auto it = collector.medians.find("Bake/" + std::to_string(n) + "/2");
+  if (it != collector.medians.end() && it->second.counters.count("items_per_second"))
+    bake_ms = 1000.0 / it->second.counters.at("items_per_second");
+  bool err = false;
+  for (const auto& [k, e] : collector.medians)
+    if (e.error && k.find("/" + std::to_string(n)) != std::string::npos) err = true;
+  std::printf("%9ld %6.2f %9.3f %9.3f %9.3f %9.3f %11.3f %11.3f %7.2f %7.2f %9.0f %9.0f %9.2f %9.2f %8.0f%s\n",
+              static_cast<long>(c.mesh.source.rows()), c.max_k, ms("Linear"), ms("Poisson"), floor_ms, cold,
+              warm, bake_ms, cold / floor_ms, warm / floor_ms, 1000.0 / warm, 1000.0 / bake_ms,
+              counter("Cold", "newton"), counter("Warm", "newton"),
+              memory / static_cast<double>(c.mesh.source.rows()), err ? "  ACCURACY FAILED" : "");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bench::MakeInterpolator make = [](int n) {
+    const BenchMesh m = make_mesh(n);
+    return std::make_unique<bd::Interpolator>(std::vector<bd::Positions>{m.source, m.target}, m.F);
+  };
+  bench::compete(argc, argv, make);
+  Options o = parse_options(argc, argv);
+  // Memory first, from a small parent process.
+  std::map<int, double> memory;
+  for (int n : o.sizes) memory[n] = peak_memory_bytes(n);
+  for (int n : o.big) memory[n] = peak_memory_bytes(n);
+  register_benchmarks(o);
+  int rargc = static_cast<int>(o.rest.size());
+  benchmark::Initialize(&rargc, o.rest.data());
   Collector collector;
   benchmark::RunSpecifiedBenchmarks(&collector);
 
-  // Summary.
-  std::printf("\nSummary (medians of %d repetitions; times in ms; every BD frame checked: residual <= 1e-10)\n", reps);
+  std::printf("\nSummary (medians of %d repetitions; times in ms; every BD frame checked: residual <= 1e-10)\n", o.reps);
   std::printf("%9s %6s %9s %9s %9s %9s %11s %11s %7s %7s %9s %9s %9s %9s %8s\n", "vertices", "K_max",
               "linear", "poisson", "floor", "cold", "warm", "bake/frame", "cold/fl", "warm/fl", "warm_fps",
               "bake_fps", "newton_c", "newton_w", "peak_B/v");
-  std::vector<int> all = sizes;
-  all.insert(all.end(), big.begin(), big.end());
-  for (int n : all) {
-    auto get = [&](const std::string& name) -> const Collector::Entry* {
-      auto it = collector.medians.find(name + "/" + std::to_string(n));
-      return it == collector.medians.end() ? nullptr : &it->second;
-    };
-    auto ms = [&](const std::string& name) { const auto* e = get(name); return e ? e->ms : NAN; };
-    auto counter = [&](const std::string& name, const char* c) {
-      const auto* e = get(name);
-      return e && e->counters.count(c) ? e->counters.at(c) : NAN;
-    };
-    const Case& c = *cases()[n];
-    const double floor_ms = ms("Floor"), warm = ms("Warm"), cold = ms("Cold");
-    double bake_ms = NAN;
-    {
-      auto it = collector.medians.find("Bake/" + std::to_string(n) + "/2");
-      if (it != collector.medians.end() && it->second.counters.count("items_per_second"))
-        bake_ms = 1000.0 / it->second.counters.at("items_per_second");
-    }
-    bool err = false;
-    for (const auto& [k, e] : collector.medians)
-      if (e.error && k.find("/" + std::to_string(n)) != std::string::npos) err = true;
-    std::printf("%9ld %6.2f %9.3f %9.3f %9.3f %9.3f %11.3f %11.3f %7.2f %7.2f %9.0f %9.0f %9.2f %9.2f %8.0f%s\n",
-                static_cast<long>(c.mesh.source.rows()), c.max_k, ms("Linear"), ms("Poisson"), floor_ms, cold,
-                warm, bake_ms, cold / floor_ms, warm / floor_ms, 1000.0 / warm, 1000.0 / bake_ms,
-                counter("Cold", "newton"), counter("Warm", "newton"),
-                memory[n] / static_cast<double>(c.mesh.source.rows()), err ? "  ACCURACY FAILED" : "");
-  }
+  for (const auto* list : {&o.sizes, &o.big})
+    for (int n : *list) print_row(collector, n, memory[n]);
   std::printf("columns: cold/fl, warm/fl = frame time / floor (targets <= 4, <= 1.5); newton_c/_w = Newton "
               "steps per cold/warm frame (chord steps included);\n         bake = frames(ts) with 2 "
               "threads, 101 frames; peak_B/v = peak RSS of a fresh process (build + 6 frames) per vertex.\n");
-  if (!busy.empty()) bench::print_busy_rows(busy, std::max(reps, 15), make);
+  if (!o.busy.empty()) bench::print_busy_rows(o.busy, std::max(o.reps, 15), make);
   benchmark::Shutdown();
   return 0;
 }
