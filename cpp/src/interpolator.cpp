@@ -5,7 +5,6 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
-#include <limits>
 #include <sstream>
 
 #include "orientation.h"
@@ -81,11 +80,10 @@ int frame_workers(int threads, size_t frames) {
 }
 
 // The one call frames() makes to the project's pool: body(k) for every chunk k in [0, chunks).
-// A chunk is whole frames (milliseconds each), so the size hint says "large": the pool's rules for
-// small loops are for the loops inside a frame.
+// A chunk is whole frames (milliseconds each): the pool's whole-task hint (parallel.h).
 template <class Body>
 void run_frame_chunks(int chunks, Body&& body) {
-  parallel::run(chunks, std::forward<Body>(body), std::numeric_limits<long>::max());
+  parallel::run(chunks, std::forward<Body>(body), parallel::kWholeTasks);
 }
 
 }  // namespace

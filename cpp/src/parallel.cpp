@@ -69,6 +69,7 @@ const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
 class LoopPolicy {
  public:
   bool use_pool(long items) {
+    if (items == kWholeTasks) return true;
     if (items > 0 && items < kMinItems) return false;
     sample();
     return !busy_.load(std::memory_order_relaxed) && ticks() >= serial_until_.load(std::memory_order_relaxed);
@@ -131,7 +132,8 @@ class Pool {
 
   // Runs the job on the caller and the workers; false if another thread is using the pool (the
   // caller then runs the chunks itself).
-  bool run(int chunks, detail::ChunkFn fn, void* context) {
+  // account: the caller's wait feeds the policy's lateness rule (not for whole tasks).
+  bool run(int chunks, detail::ChunkFn fn, void* context, bool account) {
     std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
     if (!job.owns_lock()) return false;
     grow(std::min(chunks, usable_cores()) - 1);
@@ -153,7 +155,7 @@ class Pool {
       finished_.wait(lock, [&] { return done_.load() == chunks; });
       caller_waiting_ = false;
     }
-    policy.finished(t1 - t0, ticks() - t1);
+    if (account) policy.finished(t1 - t0, ticks() - t1);
     return true;
   }
 
@@ -247,7 +249,7 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
 void detail::run(int chunks, ChunkFn fn, void* context, long items) {
   if (!inside && !forked.load(std::memory_order_relaxed) && policy.use_pool(items)) {
     inside = true;
-    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
+    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context, items != kWholeTasks);
     inside = false;
     if (ran) return;
   }

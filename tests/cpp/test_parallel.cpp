@@ -214,6 +214,29 @@ TEST(Parallel, LoopsRunOnTheCallerWhileOtherProgramsTakeTheCores) {
   EXPECT_EQ(ran[1], std::this_thread::get_id());
 }
 
+TEST(Parallel, WholeTasksGoToTheWorkersAlsoOnABusyMachine) {
+  // Frames of a sequence (kWholeTasks) are not loops: a worker takes the second task while the
+  // caller runs the first, whatever the busy verdict (independent check: the thread ids).
+  const int cores = parallel::usable_cores();
+  if (cores < 2) GTEST_SKIP() << "one usable core";
+  const parallel::ThreadLimit frame(0);
+  const testing::Competitors others(2 * cores);
+  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(kCompetitorStartMs);
+  while (std::chrono::steady_clock::now() < until && !parallel::machine_busy())
+    parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(12));
+  ASSERT_TRUE(parallel::machine_busy());
+  int elsewhere = 0;
+  for (int rep = 0; rep < 10; ++rep) {
+    std::vector<std::thread::id> ran(2);
+    parallel::run(2, [&](int k) {
+      ran[k] = std::this_thread::get_id();
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a task: milliseconds of work
+    }, parallel::kWholeTasks);
+    elsewhere += ran[0] != ran[1];
+  }
+  EXPECT_GE(elsewhere, 8);  // a worker may now and then not be scheduled in time: its task is the caller's
+}
+
 TEST(Parallel, LoopsOfAKnownSmallSizeRunOnTheCaller) {
   // The policy's size rule: under 500 items a fork/join is not worth it, whatever the load.
   const parallel::ThreadLimit frame(0);
