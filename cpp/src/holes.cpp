@@ -274,8 +274,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
   return *flat;
 }
 
-HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
-                              const FlattenOptions& options) {
+FlattenReport HoleSolver::flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options) {
   const int nv = mesh_->num_vertices(), m = 2 * num_holes();
   if (l2.size() != mesh_->num_edges()) throw InvalidInput("flatten: l2 must have one entry per edge");
   if (u.size() != nv || !u.allFinite()) u = Eigen::VectorXd::Zero(nv);
@@ -287,9 +286,17 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   // whose own metric closes with zero dipoles: exact in zero steps).
   dipole_.setZero(m);
   set_dipoles(fit_dipoles(u), u);
+  FlattenReport rep;
+  convex_solve(l2, u, options, rep);
+  flat_result_ = &close_periods(l2, u, options, rep);
+  return rep;
+}
+
+HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
+                              const FlattenOptions& options) {
   HolesReport rep;
-  convex_solve(l2, u, options, rep.flatten);
-  rep.flatness = layout(close_periods(l2, u, options, rep.flatten), X, rep.closure);
+  rep.flatten = flatten(l2, u, options);
+  rep.flatness = layout(flat_squared_lengths(), X, rep.closure);
   return rep;
 }
 

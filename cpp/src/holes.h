@@ -52,23 +52,18 @@ class HoleSolver {
   // Vertices of inner loop k in the order of the mesh's boundary loop.
   const std::vector<int>& hole(int k) const { return loops_[k]; }
 
-  // l2: #E blended squared lengths; u: #V initial guess (outer-loop entries ignored; along inner
-  // loop k its least-squares fit c_k + a_k cos s + b_k sin s is the start; all zero: a cold start),
-  // on output the solution (0 on the outer loop, c_k plus the dipole terms along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if
-  // the tolerance is not reached. Then lays the flat metric out: X (#V by 2) with counter-clockwise
-  // faces in an arbitrary rigid frame. The report's work counts (iterations, factorizations, ...)
-  // are summed over the convex solves of the closure.
+  // Step 2 on the piece: l2: #E blended squared lengths; u: #V initial guess (outer-loop entries
+  // ignored; along inner loop k its least-squares fit c_k + a_k cos s + b_k sin s is the start; all
+  // zero: a cold start), on output the solution (0 on the outer loop, c_k plus the dipole terms
+  // along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if the tolerance
+  // is not reached. The report's work counts (iterations, factorizations, ...) are summed over the
+  // convex solves of the closure. The flat squared lengths stay in flat_squared_lengths().
+  FlattenReport flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
+  // #E flat squared lengths of the last flatten() (valid until the next call).
+  const Eigen::VectorXd& flat_squared_lengths() const { return *flat_result_; }
+  // flatten() then layout(): X (#V by 2) with counter-clockwise faces in an arbitrary rigid frame.
   HolesReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X,
                     const FlattenOptions& options = {});
-
-  // The same for the interpolator: the flatness into *flatness, the closures appended to closure.
-  FlattenReport solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Positions& X, const FlattenOptions& options,
-                      double* flatness, std::vector<double>& closure) {
-    const HolesReport r = solve(l2, u, X, options);
-    *flatness = r.flatness;
-    closure.insert(closure.end(), r.closure.begin(), r.closure.end());
-    return r.flatten;
-  }
 
   // For tests: energy and gradient in the reduced unknowns (one per interior vertex, one per inner
   // loop; u sized #V); the gradient is target angle sum - angle sum, 2 pi at vertices, (n + 2) pi
@@ -127,6 +122,7 @@ class HoleSolver {
   Eigen::MatrixXd sensitivity_;           // #V by 2 #holes: d u / d dipoles of the convex solution, too
   int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
   Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
+  const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
   // The plans (flattening over the holes' unknowns; the layout's analysis) are shared by copies
   // (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;

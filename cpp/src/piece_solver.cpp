@@ -21,7 +21,7 @@ class DiskSolver final : public PieceSolver {
   Flattener& flattener() override { return flattener_; }
 
  private:
-  FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options, PieceOutcome&) override {
+  FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options) override {
     const bool cold = u_.isZero(0.0) && !flattener_.has_reusable_factorization();
     FlattenReport rep = flattener_.solve(l2w_, u_, options);
     if (rep.broken_triangles > 0 && !cold) rep = solve_cold(options, rep);
@@ -60,8 +60,8 @@ class DiskSolver final : public PieceSolver {
   Layout layout_;
 };
 
-// A piece with holes: HoleSolver flattens (one unknown per hole, the period closed by its dipoles)
-// and lays out in one call, as its period closure needs the layout's development.
+// A piece with holes: HoleSolver flattens (one unknown per hole, the periods closed by its dipoles)
+// and lays out (a least-squares fit of the developed edge vectors, docs/HOLES.md).
 class HoledSolver final : public PieceSolver {
  public:
   explicit HoledSolver(const PiecePlan& plan) : PieceSolver(plan), holes_(plan.holes->clone()) {}
@@ -73,13 +73,15 @@ class HoledSolver final : public PieceSolver {
   Flattener& flattener() override { return holes_->flattener(); }
 
  private:
-  FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options, PieceOutcome& out) override {
-    const FlattenReport rep = holes_->solve(l2w_, u_, X_, options, &out.flatness, out.closure);
+  FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options) override {
+    const FlattenReport rep = holes_->flatten(l2w_, u_, options);
     history_.add(w, u_);
     return rep;
   }
 
-  void lay_out(PieceOutcome&) override {}  // done by holes_->solve in flatten()
+  void lay_out(PieceOutcome& out) override {
+    out.flatness = holes_->layout(holes_->flat_squared_lengths(), X_, out.closure);
+  }
 
   std::unique_ptr<HoleSolver> holes_;
 };
@@ -121,7 +123,7 @@ PieceOutcome PieceSolver::solve(const Eigen::VectorXd& w, const FlattenOptions& 
   PieceOutcome result;
   blend(w);
   predict(w);
-  result.report = flatten(w, options, result);
+  result.report = flatten(w, options);
   lay_out(result);
   place(w, anchor, out, result);
   return result;

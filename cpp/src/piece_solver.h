@@ -74,7 +74,7 @@ class PieceSolver {
   // The warm start: u_ extrapolated from the frames solved before (detail::History).
   void predict(const Eigen::VectorXd& w);
   // Step 2: u_ flattens l2w_; records the frames worth warm-starting from in history_.
-  virtual FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options, PieceOutcome& out) = 0;
+  virtual FlattenReport flatten(const Eigen::VectorXd& w, const FlattenOptions& options) = 0;
   // Step 3: X_ = the flat metric laid out with counter-clockwise faces (any rigid frame).
   virtual void lay_out(PieceOutcome& out) = 0;
   // Step 4: X_ reflected back if mirrored, moved to the blended anchor, into the piece's rows of out.
