@@ -68,33 +68,52 @@ struct History {
 // SuiteSparse 7.14's orderings, on both sides). Weights are (1 - t, t) for two shapes, points of the simplex for
 // more; each call either jumps (to one of `ts` for two shapes) or moves a slider by 0.01 from the
 // last weights, where warm starts and reused factorisations matter most.
+// The weights of a random history: each call either jumps (to one of `ts` for two shapes, to a uniform
+// point of the simplex for more) or moves a slider by 0.01 from the last weights.
+class RandomWeights {
+ public:
+  RandomWeights(int k, const std::vector<double>& ts, unsigned seed)
+      : k_(k), ts_(ts), rng_(seed), w_(Eigen::VectorXd::Unit(k, 0)), dir_(Eigen::VectorXd::Zero(k)) {}
+  int pick(int n) { return static_cast<int>(rng_() % static_cast<unsigned>(n)); }
+  const Eigen::VectorXd& next() {
+    if (pick(2) == 0) {
+      jump();
+    } else {
+      if ((w_ + dir_).minCoeff() < 0) dir_ = -dir_;
+      w_ += dir_;
+    }
+    if (k_ == 2) w_[0] = 1.0 - w_[1];
+    return w_;
+  }
+
+ private:
+  void jump() {
+    if (k_ == 2) {
+      w_[1] = ts_[pick(static_cast<int>(ts_.size()))];
+    } else {
+      std::uniform_real_distribution<double> unit(0.0, 1.0);
+      for (int i = 0; i < k_; ++i) w_[i] = -std::log(1.0 - unit(rng_));
+      w_ /= w_.sum();
+    }
+    const int a = pick(k_), b = (a + 1 + pick(k_ - 1)) % k_;
+    dir_ = Eigen::VectorXd::Zero(k_);
+    dir_[a] = -0.01;
+    dir_[b] = 0.01;
+  }
+
+  int k_;
+  std::vector<double> ts_;
+  std::mt19937 rng_;
+  Eigen::VectorXd w_, dir_;
+};
+
 History expect_history_free(const std::vector<Positions>& shapes, const Faces& F, const std::vector<double>& ts,
                             unsigned seed, int calls, const InterpolatorOptions& options = {}) {
   const double size = extent(shapes[0]);
   const int k = static_cast<int>(shapes.size());
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  auto pick = [&](int n) { return static_cast<int>(rng() % static_cast<unsigned>(n)); };
-  Eigen::VectorXd w = Eigen::VectorXd::Unit(k, 0), dir = Eigen::VectorXd::Zero(k);
-  auto next = [&] {  // the weights of the next frame
-    if (pick(2) == 0) {  // a jump
-      if (k == 2) {
-        w[1] = ts[pick(static_cast<int>(ts.size()))];
-      } else {
-        for (int i = 0; i < k; ++i) w[i] = -std::log(1.0 - unit(rng));  // uniform on the simplex
-        w /= w.sum();
-      }
-      const int a = pick(k), b = (a + 1 + pick(k - 1)) % k;
-      dir = Eigen::VectorXd::Zero(k);
-      dir[a] = -0.01;
-      dir[b] = 0.01;
-    } else {  // a slider move
-      if ((w + dir).minCoeff() < 0) dir = -dir;
-      w += dir;
-    }
-    if (k == 2) w[0] = 1.0 - w[1];
-    return w;
-  };
+  RandomWeights weights(k, ts, seed);
+  auto pick = [&](int n) { return weights.pick(n); };
+  auto next = [&] { return weights.next(); };
   Interpolator I(shapes, F, {}, options);
   History h;
   auto check = [&](const Positions& X, const Eigen::VectorXd& weights, const char* how, int call) {
