@@ -123,6 +123,12 @@ def _python_overhead(V, T, F, repeats):
     return statistics.median(over)
 
 
+def _peak_row(n, nv):
+    """Peak memory of a fresh process per vertex, in all and above the import."""
+    mem, base = peak_memory(n)
+    return {"peak_B_per_vertex": mem / nv, "peak_above_import_B_per_vertex": (mem - base) / nv}
+
+
 def run_size(n, repeats, big=False):
     V, T, F = make_case(n)
     nv = V.shape[0]
@@ -154,10 +160,7 @@ def run_size(n, repeats, big=False):
     row["warm"] = _median_time(warm, repeats, min_time)
     row["newton_warm"] = float(np.mean(warm_iters))
     if big:
-        mem, base = peak_memory(n)
-        row["peak_B_per_vertex"] = mem / nv
-        row["peak_above_import_B_per_vertex"] = (mem - base) / nv
-        return row
+        return {**row, **_peak_row(n, nv)}
 
     cold_ts = iter(np.tile([0.5, 0.3, 0.7, 0.15, 0.85], 1000))
     cold_iters = []
@@ -180,10 +183,7 @@ def run_size(n, repeats, big=False):
 
     row.update(_bake(V, T, F, repeats))
     row["python_overhead"] = _python_overhead(V, T, F, repeats)
-    mem, base = peak_memory(n)
-    row["peak_B_per_vertex"] = mem / nv
-    row["peak_above_import_B_per_vertex"] = (mem - base) / nv
-    return row
+    return {**row, **_peak_row(n, nv)}
 
 
 def format_table(rows):
