@@ -187,15 +187,6 @@ SparseCholesky& Flattener::factored_hessian(const Eigen::VectorXd& l2, const Eig
   return *s.factor;
 }
 
-bool Flattener::solve_hessian(const Eigen::VectorXd& b, double eta, Eigen::VectorXd& x) {
-  constexpr int kMaxIterations = 12;  // as a chord step's: beyond, the factor is too far from H
-  State& s = *state_;
-  if (!s.factor || !s.factor_reusable || s.shift > 0) return false;
-  if (!s.hessian_at_cur) s.evaluator.assemble_hessian(s.cur, s.hessian.data());
-  s.hessian_at_cur = true;
-  return detail::preconditioned_cg(*s.factor, s.hessian.data(), b, eta, kMaxIterations, x, s.pcg) <= kMaxIterations;
-}
-
 void Flattener::assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
   State& s = *state_;
   s.factor_reusable = false;

@@ -100,11 +100,6 @@ class Flattener {
   // are the matrix that was factorised (the Hessian at the last factorisation, plus `*shift` on the
   // diagonal). Factorises the Hessian at (l2, u) if no factorisation is at hand.
   SparseCholesky& factored_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, double* shift);
-  // Solves H x = b (sized num_interior()), H the Hessian at the last solve()'s solution, by
-  // conjugate gradients preconditioned with the reusable factorisation until max |b - H x| <= eta
-  // (the holes' exact d u / d dipoles). False, x undefined, without a reusable unshifted factor or
-  // if CG does not converge in a few iterations.
-  bool solve_hessian(const Eigen::VectorXd& b, double eta, Eigen::VectorXd& x);
   // Benchmarks: loads the Hessian at (l2, u) into the solver (no factorisation) and gives access to
   // it; the next solve() will not reuse the factorisation that was there.
   void assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);

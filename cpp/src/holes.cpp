@@ -20,6 +20,9 @@ namespace {
 // residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
+// First-order closure steps on one sensitivity before a convex solve refreshes it: its staleness
+// grows along a slider and with it the angle residual the step leaves (tests/cpp/test_holes.cpp).
+constexpr int kLinearSteps = 4;
 
 // The outer loop of `piece`: the index of the boundary loop enclosing the largest area in `base`.
 int outer_loop(const Mesh& piece, const Positions& base) {
@@ -92,16 +95,14 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
   for (int f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
       if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
-  for (int f = 0; f < F.rows(); ++f)
-    if (owner[F(f, 0)] >= 0 || owner[F(f, 1)] >= 0 || owner[F(f, 2)] >= 0) hole_faces_.push_back(f);
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
     : mesh_(o.mesh_), layout_plan_(o.layout_plan_), loops_(o.loops_), loop_edges_(o.loop_edges_),
-      loop_corners_(o.loop_corners_), hole_faces_(o.hole_faces_), loop_xy_(o.loop_xy_), dipole_(o.dipole_),
-      plan_(o.plan_), flattener_(o.plan_), layout_(o.layout_plan_) {}
+      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), plan_(o.plan_),
+      flattener_(o.plan_), layout_(o.layout_plan_) {}
 
 HoleSolver::~HoleSolver() = default;
 
@@ -112,6 +113,7 @@ std::unique_ptr<HoleSolver> HoleSolver::clone() const {
 void HoleSolver::forget() {
   dipole_.resize(0);
   jacobian_.resize(0, 0);
+  sensitivity_.resize(0, 0);
   flattener_.forget();
 }
 
@@ -176,6 +178,8 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
   const int m = 2 * num_holes();
   const Eigen::VectorXd ab = dipole_;
   Eigen::MatrixXd J(m, m);
+  sensitivity_.resize(u.size(), m);
+  sensitivity_age_ = 0;
   Eigen::VectorXd trial;
   for (int j = 0; j < m; ++j) {
     Eigen::VectorXd abj = ab;
@@ -184,55 +188,23 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
     set_dipoles(abj, trial);
     convex_solve(l2, trial, options, report);
     J.col(j) = (solved_periods() - period) / kDipoleStep;
+    sensitivity_.col(j) = (trial - u) / kDipoleStep;
     set_dipoles(ab, trial);  // dipole_ back to ab
   }
   return J;
 }
 
-bool HoleSolver::dipole_response(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& delta,
-                                 double aim, Eigen::VectorXd& du) {
-  const Faces& F = mesh_->faces();
-  const Faces& FE = mesh_->face_edges();
-  const int nv = mesh_->num_vertices(), n = flattener_.num_interior();
-  // The dipoles' change along each hole, e = sum_j delta_j e_j (e_j: cos s or sin s on its hole).
-  du.setZero(nv);
-  for (int k = 0; k < num_holes(); ++k)
-    for (size_t i = 0; i < loops_[k].size(); ++i)
-      du[loops_[k][i]] = loop_xy_[k](i, 0) * delta[2 * k] + loop_xy_[k](i, 1) * delta[2 * k + 1];
-  // The reduced gradient's change -P' L e, L the cotan Laplacian at u (P: each unknown's vertices):
-  // only the faces at the holes see e vary.
-  Eigen::VectorXd& b = response_rhs_;
-  b.setZero(n);
-  for (int f : hole_faces_) {
-    double fl2[3], cot[3];
-    for (int c = 0; c < 3; ++c) fl2[c] = std::exp(u[F(f, (c + 1) % 3)] + u[F(f, (c + 2) % 3)]) * l2[FE(f, c)];
-    triangle_cotangents(fl2, cot);
-    for (int c = 0; c < 3; ++c) {
-      const int i = F(f, (c + 1) % 3), j = F(f, (c + 2) % 3), ui = unknown(i), uj = unknown(j);
-      const double d = 0.5 * cot[c] * (du[j] - du[i]);
-      if (ui >= 0) b[ui] += d;
-      if (uj >= 0) b[uj] -= d;
-    }
-  }
-  // H dx = -P' L e, its angle residual a tenth of the aim (relative 1e-3 where the step is large).
-  const double eta = std::max(1e-3 * b.cwiseAbs().maxCoeff(), 0.1 * aim);
-  if (!flattener_.solve_hessian(b, eta, response_)) return false;
-  for (int v = 0; v < nv; ++v)
-    if (unknown(v) >= 0) du[v] += response_[unknown(v)];
-  return du.allFinite();
-}
-
 bool HoleSolver::linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                              Eigen::VectorXd& next) {
-  // u moves by its exact derivative in the dipoles along their step: what the convex solve would
-  // do, up to the step squared (far below the tolerance at periods ~1e-11), so a steady frame needs
-  // no second convex solve. Kept only if it closes the periods.
-  Eigen::VectorXd trial;
-  if (!dipole_response(l2, u, delta, aim, trial)) return false;
-  trial += u;
+  // u moves by the sensitivity times the dipoles' step: what the convex solve would do, up to the
+  // step squared and the sensitivity's staleness (both far below the tolerance at periods ~1e-11),
+  // so a steady frame needs no second convex solve. Kept only if it closes the periods.
+  if (sensitivity_age_ >= kLinearSteps) return false;
+  Eigen::VectorXd trial = u + sensitivity_ * delta;
   flat_ = scale_lengths(*mesh_, l2, trial);
   next = periods(flat_);
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
+  ++sensitivity_age_;
   u = std::move(trial);
   dipole_ += delta;
   return true;
@@ -242,8 +214,9 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
                                                  const FlattenOptions& options, FlattenReport& report) {
   const int m = 2 * num_holes();
   Eigen::VectorXd period = solved_periods(), next;
-  // The Jacobian is kept across frames (it changes slowly along a slider) and updated by Broyden's
-  // rule; recomputed by finite differences when missing or when a step fails to halve the periods. Closed to tolerance * refinement like the flattening; the
+  // The Jacobian and the sensitivity du/d dipoles are kept across frames (they change slowly along
+  // a slider) and updated by Broyden's rule; recomputed by finite differences when missing or when
+  // a step fails to halve the periods. Closed to tolerance * refinement like the flattening; the
   // loop ends at the accuracy the periods allow (a fresh Jacobian's step that does not halve them).
   bool fresh = false;
   const Eigen::VectorXd* flat = &flattener_.flat_squared_lengths();
@@ -255,6 +228,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
       return flat_;
     }
+    const Eigen::VectorXd before = u;
     set_dipoles(dipole_ + delta, u);
     convex_solve(l2, u, options, report);
     next = solved_periods();
@@ -263,6 +237,8 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
     if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
     if (halved) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      sensitivity_ += (u - before - sensitivity_ * delta) * delta.transpose() / delta.squaredNorm();
+      sensitivity_age_ = 0;
       fresh = false;
     } else {
       jacobian_ = dipole_jacobian(l2, u, next, options, report);

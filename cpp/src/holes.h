@@ -98,13 +98,7 @@ class HoleSolver {
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
-  // du = (d u / d dipoles) delta at the convex solution u of l2, exactly (implicit function
-  // theorem: the reduced Hessian H, at the Flattener's last solution, times the unknowns' change =
-  // minus the gradient's change; one CG solve preconditioned with the Flattener's factor, to an
-  // angle residual below aim / 10). False if the Flattener has no usable factor.
-  bool dipole_response(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& delta, double aim,
-                       Eigen::VectorXd& du);
-  // The dipoles' step delta taken to first order (u += dipole_response, no convex solve): kept,
+  // The dipoles' step delta taken to first order (u += sensitivity_ * delta, no convex solve): kept,
   // with its periods in next, if they are finite and below aim; else u and dipole_ are unchanged.
   bool linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                    Eigen::VectorXd& next);
@@ -121,11 +115,11 @@ class HoleSolver {
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
   // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
   std::vector<std::vector<std::array<int, 3>>> loop_corners_;
-  std::vector<int> hole_faces_;  // the faces with a corner on a hole (where L e_j lives)
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)
-  Eigen::VectorXd response_rhs_, response_;  // dipole_response's scratch (per unknown)
+  Eigen::MatrixXd sensitivity_;           // #V by 2 #holes: d u / d dipoles of the convex solution, too
+  int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
   Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
   const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
   // The plans are shared by copies (one per thread); the workspaces and factors are each copy's own.

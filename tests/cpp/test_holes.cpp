@@ -244,9 +244,10 @@ TEST(Holes, TheLayoutIsTheSharedOneAroundTheOuterLoop) {
   EXPECT_THROW(LayoutPlan(mesh, 2), InvalidInput);
 }
 
-// On a slider the periods' Newton step is taken to first order (u moves by its exact derivative in
-// the dipoles, HoleSolver::dipole_response): every steady warm frame is one convex solve of one
-// Newton step, not two, and lands where a fresh solver does.
+// On a slider the periods' Newton step is taken to first order (the sensitivity du/d dipoles kept
+// from the finite-difference Jacobian, Broyden-updated, refreshed by a convex solve every
+// kLinearSteps + 1 frames): most steady warm frames are one convex solve of one Newton step, not
+// two, and land where a fresh solver does.
 TEST(Holes, SteadyWarmFramesAreMostlyOneConvexSolveAndMatchColdOnes) {
   const Annulus a = annulus(8, 48);
   const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
@@ -270,10 +271,10 @@ TEST(Holes, SteadyWarmFramesAreMostlyOneConvexSolveAndMatchColdOnes) {
     Eigen::VectorXd uc;
     Positions Xc;
     cold.solve(l2, uc, Xc);
-    // Measured: <= 2e-14 here (a Broyden-updated sensitivity refreshed every fifth frame: 1.7e-13).
-    EXPECT_LT((u - uc).cwiseAbs().maxCoeff(), 1e-13) << "t = " << t;
+    // Measured: <= 1.7e-13 here, 7e-13 after 50 frames (without the refresh of S: 3e-11).
+    EXPECT_LT((u - uc).cwiseAbs().maxCoeff(), 1e-12) << "t = " << t;
   }
-  EXPECT_EQ(one_solve, 10);  // of 10 (the refreshed sensitivity: 8; main's closure: 0)
+  EXPECT_GE(one_solve, 7);  // of 10 (measured: 8; main's closure: 0, every frame two solves)
 }
 
 }  // namespace
