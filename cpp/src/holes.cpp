@@ -1,5 +1,6 @@
-// The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener, and the
-// closure of their translation periods by Newton on the dipoles around the convex solves.
+// The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener, the
+// closure of their translation periods by Newton on the dipoles around the convex solves, the
+// periods themselves (intrinsic) and the layout (the shared Layout).
 #include "holes.h"
 
 #include <Eigen/Cholesky>
@@ -7,8 +8,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <complex>
 
 #include "geometry.h"
+#include "triangle.h"
 
 namespace bdinterp {
 namespace {
@@ -21,15 +24,22 @@ constexpr double kDipoleStep = 1e-6;
 // grows along a slider and with it the angle residual the step leaves (tests/cpp/test_holes.cpp).
 constexpr int kLinearSteps = 4;
 
-// The inner loops of `piece`: every boundary loop but the one enclosing the largest area in `base`.
-std::vector<std::vector<int>> inner_loops(const Mesh& piece, const Positions& base) {
-  std::vector<std::vector<int>> all = piece.boundary_loops();
+// The outer loop of `piece`: the index of the boundary loop enclosing the largest area in `base`.
+int outer_loop(const Mesh& piece, const Positions& base) {
+  const std::vector<std::vector<int>>& all = piece.boundary_loops();
   if (all.empty()) throw InvalidInput("a piece without boundary cannot be flattened");
   size_t outer = 0;
   for (size_t k = 1; k < all.size(); ++k)
     if (std::abs(loop_area(base, all[k])) > std::abs(loop_area(base, all[outer]))) outer = k;
-  all.erase(all.begin() + static_cast<long>(outer));
-  return all;
+  return static_cast<int>(outer);
+}
+
+// The inner loops of `piece`: every boundary loop but the one `layout` walks (the outer one).
+std::vector<std::vector<int>> inner_loops(const Mesh& piece, const LayoutPlan& layout) {
+  std::vector<std::vector<int>> inner;
+  for (const std::vector<int>& loop : piece.boundary_loops())
+    if (std::find(loop.begin(), loop.end(), layout.loop.front()) == loop.end()) inner.push_back(loop);
+  return inner;
 }
 
 // One unknown per interior vertex (2 pi) and one per inner loop of n vertices ((n + 2) pi: the
@@ -58,10 +68,11 @@ void add_solve(FlattenReport& into, const FlattenReport& r) {
 
 HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
     : mesh_(&piece),
-      walk_(piece.dual_walk({0})),
-      loops_(inner_loops(piece, base)),
+      layout_plan_(std::make_shared<const LayoutPlan>(piece, outer_loop(piece, base), /*share_analysis=*/true)),
+      loops_(inner_loops(piece, *layout_plan_)),
       plan_(std::make_shared<const FlattenPlan>(piece, hole_unknowns(piece, loops_))),
-      flattener_(plan_) {
+      flattener_(plan_),
+      layout_(layout_plan_) {
   // Each inner loop's edges in loop order, with +1 where the edge runs E(e,0) -> E(e,1) along it.
   const Edges& E0 = piece.edges();
   std::vector<std::vector<int>> boundary_edges(piece.num_vertices());
@@ -86,46 +97,12 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
       if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
-  build_layout_system();
-}
-
-void HoleSolver::build_layout_system() {
-  // The layout's uniform Laplacian over every vertex but one (the least-squares fit of edge vectors).
-  const Mesh& piece = *mesh_;
-  const Edges& E = piece.edges();
-  const int nv = piece.num_vertices();
-  layout_index_.assign(nv, -1);
-  pinned_ = piece.faces()(0, 0);
-  int m = 0;
-  for (int v = 0; v < nv; ++v)
-    if (v != pinned_ && !piece.is_isolated_vertex(v)) layout_index_[v] = m++;
-  std::vector<int> col_ptr, rows;
-  const InteriorPattern g = unknowns_pattern(piece, layout_index_, m, col_ptr, rows);
-  layout_values_.assign(rows.size(), 0.0);
-  double* L = layout_values_.data();
-  for (int e = 0; e < E.rows(); ++e) {
-    const int a = layout_index_[E(e, 0)], b = layout_index_[E(e, 1)];
-    if (a >= 0) L[g.diag_pos[a]] += 1;
-    if (b >= 0) L[g.diag_pos[b]] += 1;
-    if (g.edge_pos[e] >= 0) L[g.edge_pos[e]] -= 1;
-  }
-  layout_analysis_ = std::make_shared<const CholeskyAnalysis>(m, std::move(col_ptr), std::move(rows));
-  factorize_layout();
-}
-
-void HoleSolver::factorize_layout() {
-  layout_ = std::make_unique<SparseCholesky>(layout_analysis_);
-  std::copy(layout_values_.begin(), layout_values_.end(), layout_->values());
-  layout_->factorize();
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
-    : mesh_(o.mesh_), walk_(o.walk_), loops_(o.loops_), loop_edges_(o.loop_edges_),
-      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_),
-      dipole_(o.dipole_), plan_(o.plan_), flattener_(o.plan_), layout_analysis_(o.layout_analysis_),
-      layout_values_(o.layout_values_), layout_index_(o.layout_index_), pinned_(o.pinned_) {
-  factorize_layout();
-}
+    : mesh_(o.mesh_), layout_plan_(o.layout_plan_), loops_(o.loops_), loop_edges_(o.loop_edges_),
+      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), plan_(o.plan_),
+      flattener_(o.plan_), layout_(o.layout_plan_) {}
 
 HoleSolver::~HoleSolver() = default;
 
@@ -298,6 +275,55 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   rep.flatten = flatten(l2, u, options);
   rep.flatness = layout(flat_squared_lengths(), X, rep.closure);
   return rep;
+}
+
+Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
+  const Faces& FE = mesh_->face_edges();
+  Eigen::VectorXd out(2 * num_holes());
+  std::vector<double> angle;
+  for (int k = 0; k < num_holes(); ++k) {
+    const size_t n = loops_[k].size();
+    angle.assign(n, 0.0);
+    for (const auto& [i, f, c] : loop_corners_[k]) {
+      const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
+      double a[3];
+      triangle_angles(fl2, a);
+      angle[i] += a[c];
+    }
+    // Edge i runs from loop[i] to loop[i + 1]; the direction turns at loop[i + 1]. (Walking the
+    // other way conjugates every period: the closure and the Newton on it do not see the difference.)
+    std::complex<double> gap = 0;
+    double length = 0, direction = 0;
+    for (size_t i = 0; i < n; ++i) {
+      const double l = std::sqrt(l2[loop_edges_[k][i].first]);
+      gap += std::polar(l, direction);
+      length += l;
+      direction += kPi - angle[(i + 1) % n];
+    }
+    out[2 * k] = gap.real() / length;
+    out[2 * k + 1] = gap.imag() / length;
+  }
+  return out;
+}
+
+double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
+  double flatness = 0;
+  layout_.embed(l2, X, &flatness);
+  // The gap of each hole's loop developed by the Layout's faces (each hole edge has one face): the
+  // period of periods() up to the flattening's residual.
+  closure.resize(num_holes());
+  for (int k = 0; k < num_holes(); ++k) {
+    std::complex<double> gap = 0;
+    double length = 0;
+    for (size_t i = 0; i < loops_[k].size(); ++i) {
+      double v[2];
+      layout_.vector_of(layout_plan_->half_edge(loop_edges_[k][i].first, loops_[k][i]), v);
+      gap += std::complex<double>(v[0], v[1]);
+      length += std::hypot(v[0], v[1]);
+    }
+    closure[k] = std::abs(gap) / length;
+  }
+  return flatness;
 }
 
 }  // namespace bdinterp

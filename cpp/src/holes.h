@@ -13,19 +13,19 @@
 // class is that outer step: for fixed dipoles (a, b) the Flattener solves for the c_k (the dipole
 // terms are its fixed offsets), and Newton on the dipoles (finite-difference Jacobian, Broyden
 // updates, warm-started convex solves) drives every period to zero. At an input's own metric the
-// periods vanish with zero dipoles: no extra solve, inputs exact. The layout fits every edge vector
-// by least squares; the remaining period is reported per hole, relative to the loop's length.
+// periods vanish with zero dipoles: no extra solve, inputs exact. The layout is the disks' Layout
+// with the holes' vertices free (its own uniform Laplacian); the remaining period is reported per
+// hole, relative to the loop's length.
 #pragma once
 
 #include <array>
-#include <complex>
 #include <memory>
 #include <utility>
 #include <vector>
 
 #include "flatten.h"
+#include "layout.h"
 #include "mesh.h"
-#include "sparse_cholesky.h"
 
 namespace bdinterp {
 
@@ -73,7 +73,8 @@ class HoleSolver {
   // Unknown of vertex v: -1 on the outer loop.
   int unknown(int v) const { return plan_->pattern.index[v]; }
 
-  // Lays out flat squared lengths l2 (#E): X as above, closure per inner loop; returns flatness.
+  // Lays out flat squared lengths l2 (#E) by the Layout (X as above) and returns its flatness;
+  // closure per inner loop: the gap of the loop developed by the Layout's faces / its length.
   double layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure);
   // The holes' translation periods of flat lengths l2 (#E), relative to each loop's length: (re, im)
   // of hole k at 2k, 2k + 1, in a frame along the loop's first edge. Intrinsic: walking the hole, the
@@ -105,13 +106,11 @@ class HoleSolver {
   // flat squared lengths of the final u (the Flattener's or flat_).
   const Eigen::VectorXd& close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                      FlattenReport& report);
-  // Faces developed across a dual tree; every edge's vector E(e,0) -> E(e,1) into d.
-  void develop(const Eigen::VectorXd& l2, std::vector<std::complex<double>>& d) const;
-  void build_layout_system();  // the layout's Laplacian (layout_values_), analysed and factorised
-  void factorize_layout();     // layout_ from layout_values_
 
   const Mesh* mesh_;
-  std::vector<Mesh::DualStep> walk_;     // the dual tree develop() places the faces over (from face 0)
+  // The layout's plan (the outer loop walked, every other vertex free; its uniform Laplacian's
+  // analysis), shared by copies; before loops_, which are the loops it does not walk.
+  std::shared_ptr<const LayoutPlan> layout_plan_;
   std::vector<std::vector<int>> loops_;  // the inner loops
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
   // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
@@ -123,19 +122,10 @@ class HoleSolver {
   int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
   Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
   const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
-  // The plans (flattening over the holes' unknowns; the layout's analysis) are shared by copies
-  // (one per thread); the workspaces and factors are each copy's own.
+  // The plans are shared by copies (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;
   Flattener flattener_;
-  std::shared_ptr<const CholeskyAnalysis> layout_analysis_;
-  std::unique_ptr<SparseCholesky> layout_;   // uniform Laplacian, vertex `pinned_` removed
-  std::vector<double> layout_values_;        // its values
-  std::vector<int> layout_index_;            // #V: row in layout_, -1 for the pinned vertex
-  int pinned_ = 0;
-  std::vector<std::complex<double>> developed_;  // layout()'s scratch: every edge's vector
-  // develop()'s scratch: each face in its own frame, and its rotation.
-  mutable std::vector<std::array<std::complex<double>, 3>> local_;
-  mutable std::vector<std::complex<double>> rotation_;
+  Layout layout_;  // over layout_plan_, its uniform Laplacian factorised once per copy
 };
 
 }  // namespace bdinterp

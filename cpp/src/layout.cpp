@@ -1,6 +1,8 @@
 #include "layout.h"
 
+#include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "parallel.h"
 #include "triangle.h"
@@ -20,33 +22,55 @@ inline void local_half_edges(const double* p, double h[3][2]) {
   h[2][1] = 0.0;
 }
 
+// The free vertices of `piece` (all but those of its loop `outer` and isolated ones), numbered in
+// increasing vertex order: a disk's interior numbering, so its pattern is interior_pattern()'s.
+std::vector<int> free_vertices(const Mesh& piece, int outer, int& n) {
+  const auto& loops = piece.boundary_loops();
+  if (outer < 0 || (outer >= static_cast<int>(loops.size()) && !loops.empty()))
+    throw InvalidInput("layout: no boundary loop " + std::to_string(outer));
+  std::vector<int> index(piece.num_vertices(), 0);
+  if (!loops.empty())
+    for (int v : loops[outer]) index[v] = -1;
+  n = 0;
+  for (int v = 0; v < piece.num_vertices(); ++v) index[v] = index[v] < 0 || piece.is_isolated_vertex(v) ? -1 : n++;
+  return index;
+}
+
 }  // namespace
 
-LayoutPlan::LayoutPlan(const Mesh& disk) : mesh(disk) {
-  const Faces& F = disk.faces();
-  const Edges& E = disk.edges();
-  const Edges& EF = disk.edge_faces();
-  root = disk.central_face();
-  tree = disk.dual_walk({root});
-  std::vector<int> col_ptr, rows;  // needed by ensure_own_system only, which builds them again
-  pattern = interior_pattern(disk, col_ptr, rows);
+LayoutPlan::HalfEdge LayoutPlan::half_edge(int e, int from) const {
+  const int f = mesh.edge_faces()(e, 0), c = mesh.corner_of_edge(f, e);
+  return {f, c, mesh.faces()(f, (c + 1) % 3) == from ? 1.0 : -1.0};
+}
+
+LayoutPlan::LayoutPlan(const Mesh& piece, int outer, bool share_analysis) : mesh(piece) {
+  const Faces& F = piece.faces();
+  const Edges& E = piece.edges();
+  const Edges& EF = piece.edge_faces();
+  root = piece.central_face();
+  tree = piece.dual_walk({root});
+  int n = 0;
+  const std::vector<int> index = free_vertices(piece, outer, n);
+  std::vector<int> col_ptr, rows;  // for the shared analysis (else ensure_own_system builds them again)
+  pattern = unknowns_pattern(piece, index, n, col_ptr, rows);
+  if (share_analysis && n > 0) uniform = std::make_shared<const CholeskyAnalysis>(n, std::move(col_ptr), std::move(rows));
   // The boundary half-edges (each face's half-edge c runs from corner c+1 to corner c+2, so the
-  // interior lies to their left), chained into the loop from its smallest vertex.
-  std::vector<HalfEdge> leaving(disk.num_vertices(), HalfEdge{-1, -1, 1.0});
-  int start = -1;
+  // piece lies to their left), chained into the outer loop from its smallest vertex.
+  std::vector<HalfEdge> leaving(piece.num_vertices(), HalfEdge{-1, -1, 1.0});
   for (int e = 0; e < E.rows(); ++e) {
     if (EF(e, 1) >= 0) continue;
-    const int f = EF(e, 0), c = disk.corner_of_edge(f, e), a = F(f, (c + 1) % 3);
-    leaving[a] = {f, c, 1.0};
-    if (start < 0 || a < start) start = a;
+    const int f = EF(e, 0), c = piece.corner_of_edge(f, e);
+    leaving[F(f, (c + 1) % 3)] = {f, c, 1.0};
   }
+  const auto& loops = piece.boundary_loops();
+  const int start = loops.empty() ? -1 : *std::min_element(loops[outer].begin(), loops[outer].end());
   for (int v = start; v >= 0 && loop.size() < leaving.size();) {
     loop.push_back(v);
     loop_edges.push_back(leaving[v]);
     v = F(leaving[v].face, (leaving[v].corner + 2) % 3);
     if (v == start) break;
   }
-  // One tie to the boundary for every interior vertex next to it.
+  // One tie to the outer loop for every free vertex next to it.
   std::vector<bool> tied(pattern.size(), false);
   for (int e = 0; e < E.rows(); ++e) {
     const int ia = pattern.index[E(e, 0)], ib = pattern.index[E(e, 1)];
@@ -54,8 +78,7 @@ LayoutPlan::LayoutPlan(const Mesh& disk) : mesh(disk) {
     const int row = ia >= 0 ? ia : ib, boundary = ia >= 0 ? E(e, 1) : E(e, 0);
     if (tied[row]) continue;
     tied[row] = true;
-    const int f = EF(e, 0), c = disk.corner_of_edge(f, e);
-    ties.push_back({row, boundary, {f, c, F(f, (c + 1) % 3) == boundary ? 1.0 : -1.0}});
+    ties.push_back({row, boundary, half_edge(e, boundary)});
   }
 }
 
@@ -66,7 +89,7 @@ struct Layout::Scratch {
   // (cx, cy); rows (l01, cx, cy).
   Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor> local;
   std::vector<char> broken;       // #F: the face's lengths violate the triangle inequality
-  Eigen::VectorXd rhs, row_sum;   // 2 #interior and #interior
+  Eigen::VectorXd rhs, row_sum;   // 2 #free and #free
   parallel::Partials rhs_parts;   // other threads' shares of the right-hand side
 };
 
@@ -87,10 +110,14 @@ void Layout::ensure_own_system() {
   const LayoutPlan& p = *plan_;
   const int n = p.pattern.size();
   if (own_ || n == 0) return;
-  // The uniform graph Laplacian: weight 1 per edge (boundary edges in the diagonal).
-  std::vector<int> col_ptr, rows;
-  interior_pattern(p.mesh, col_ptr, rows);
-  own_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
+  // The uniform graph Laplacian: weight 1 per edge (edges to the outer loop in the diagonal).
+  if (p.uniform) {
+    own_ = std::make_unique<SparseCholesky>(p.uniform);
+  } else {
+    std::vector<int> col_ptr, rows;
+    unknowns_pattern(p.mesh, p.pattern.index, n, col_ptr, rows);
+    own_ = std::make_unique<SparseCholesky>(n, col_ptr, rows);
+  }
   double* W = own_->values();
   const Edges& E = p.mesh.edges();
   for (int e = 0; e < E.rows(); ++e) {
@@ -134,7 +161,7 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   X.resize(m.num_vertices(), 2);
   X.setZero();
   place_boundary(X);
-  if (n > 0) solve_interior(*W, shift, X);
+  if (n > 0) solve_free(*W, shift, X);
   if (!flatness) return;
   const Edges& E = m.edges();
   const int threads = parallel::loop_threads(E.rows());
@@ -213,16 +240,17 @@ void Layout::place_boundary(Positions& X) const {
 void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions& X) {
   const Faces& F = plan_->mesh.faces();
   const Faces& FE = plan_->mesh.face_edges();
+  const Edges& EF = plan_->mesh.edge_faces();
   const InteriorPattern& pattern = plan_->pattern;
   const int nf = static_cast<int>(F.rows()), n = pattern.size();
   Scratch& s = *scratch_;
   const double* M = W.values();
   const int* col_ptr = W.column_pointers();
   const int* rows = W.row_indices();
-  // For an exact layout X, (W X)_i = sum_j w_ij (X_i - X_j) + r_i X_i over the interior neighbours
-  // j, with w_ij = -W_ij and r_i the row sum of W (the weight of i's boundary edges). The edge
-  // differences come from the faces (each interior edge half from either side), X_i in the last
-  // term from a boundary neighbour and the edge to it.
+  // For an exact layout X, (W X)_i = sum_j w_ij (X_i - X_j) + r_i X_i over the free neighbours j,
+  // with w_ij = -W_ij and r_i the row sum of W (the weight of i's edges to the outer loop). The edge
+  // differences come from the faces (an inner edge half from either side, a hole's edge whole from
+  // its one face), X_i in the last term from an outer-loop neighbour and the edge to it.
   s.row_sum.setZero();
   for (int j = 0; j < n; ++j) {
     s.row_sum[j] += M[col_ptr[j]] - shift;
@@ -245,7 +273,7 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
       const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
       // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
       const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
-      const double w = 0.5 * M[p];  // = -(half the weight)
+      const double w = (EF(FE(f, c), 1) >= 0 ? 0.5 : 1.0) * M[p];  // = -(this face's share of the weight)
       b[i] += w * d0;
       b[n + i] += w * d1;
       b[j] -= w * d0;
@@ -261,7 +289,7 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
   }
 }
 
-void Layout::solve_interior(SparseCholesky& W, double shift, Positions& X) {
+void Layout::solve_free(SparseCholesky& W, double shift, Positions& X) {
   const int n = plan_->pattern.size();
   assemble_rhs(W, shift, X);
   Eigen::VectorXd& x = scratch_->rhs;

@@ -1,16 +1,18 @@
 // Step 3 of the method: lay flat edge lengths out in the plane without accumulated drift.
 //
 // Each face is built from its three lengths and the faces' rotations are propagated across shared
-// edges (exact when the metric is flat, up to its angle-sum residual). The boundary loop is laid
-// out by walking its edges, the walk's closing gap (of the order of that residual) spread along it
-// by arc length; the interior vertices then solve one sparse symmetric positive definite system
-// W x = b that fits every interior edge vector at once, so no error accumulates along paths.
+// edges (exact when the metric is flat, up to its angle-sum residual). The outer boundary loop is
+// laid out by walking its edges, the walk's closing gap (of the order of that residual) spread along
+// it by arc length; every other vertex (the interior and, on a piece with holes, the holes' loops) is
+// free and solves one sparse symmetric positive definite system W x = b that fits every edge vector
+// between free vertices at once, so no error accumulates along paths.
 //
-// W may be any SPD matrix with the interior vertex-adjacency pattern of interior_pattern(): -W_ij
-// weighs the edge ij, and the row sums weigh the edges to the boundary. For consistent edge vectors
-// every such W gives the same, exact layout. The interpolator passes the flattening's own
-// factorised cotan Laplacian (no second factor); a stand-alone Layout factorises the uniform graph
-// Laplacian once.
+// W may be any SPD matrix with the free vertices' adjacency pattern (LayoutPlan::pattern; for a disk
+// interior_pattern()'s): -W_ij weighs the edge ij, and the row sums weigh the edges to the outer
+// loop. For consistent edge vectors every such W gives the same, exact layout. The interpolator
+// passes a disk the flattening's own factorised cotan Laplacian (no second factor); a holed piece,
+// whose Hessian has one row per hole rather than per hole vertex, and a stand-alone Layout factorise
+// the uniform graph Laplacian once per workspace.
 //
 // A LayoutPlan holds what depends on the mesh only (read-only, shared by threads); a Layout is one
 // thread's workspace.
@@ -24,36 +26,42 @@
 
 namespace bdinterp {
 
-// The mesh-only part of a layout; `disk` must outlive it.
+// The mesh-only part of a layout; `piece` must outlive it.
 struct LayoutPlan {
-  // disk: one connected piece with one boundary loop (see split_into_disks).
-  explicit LayoutPlan(const Mesh& disk);
+  // piece: one connected piece with a boundary (split_into_pieces); outer: the index in its
+  // boundary_loops() of the loop walked (a disk's only loop), the others' vertices are free. With
+  // share_analysis, the workspaces' uniform Laplacians share one symbolic analysis made here (a
+  // holed piece's, whose layout always uses it). Throws InvalidInput for an outer index out of range.
+  explicit LayoutPlan(const Mesh& piece, int outer = 0, bool share_analysis = false);
 
   // A half-edge of face `face`, opposite corner `corner`, taken forwards (sign 1) or backwards (-1).
   struct HalfEdge {
     int face, corner;
     double sign;
   };
-  // An interior vertex next to the boundary: its interior number, a boundary neighbour and the
-  // half-edge from that boundary vertex to it.
+  // A free vertex next to the outer loop: its free number, an outer-loop neighbour and the
+  // half-edge from that loop vertex to it.
   struct Tie {
     int row, boundary;
     HalfEdge edge;
   };
+  // Edge e run from its end `from`, as its first face (edge_faces()(e, 0)) sees it.
+  HalfEdge half_edge(int e, int from) const;
 
   const Mesh& mesh;
-  InteriorPattern pattern;
+  InteriorPattern pattern;          // over the free vertices (numbered in increasing vertex order)
   int root = 0;                     // the central face, in the layout frame's orientation
   std::vector<Mesh::DualStep> tree;  // breadth-first from the root (not listed)
-  std::vector<int> loop;            // the boundary vertices in order (interior on the left)
+  std::vector<int> loop;            // the outer loop's vertices in order (the piece on the left)
   std::vector<HalfEdge> loop_edges;  // loop[k] -> loop[k + 1]
-  std::vector<Tie> ties;            // one per interior vertex next to the boundary
+  std::vector<Tie> ties;            // one per free vertex next to the outer loop
+  std::shared_ptr<const CholeskyAnalysis> uniform;  // with share_analysis: the pattern's analysis
 };
 
 class Layout {
  public:
   // disk: one connected piece with one boundary loop (see split_into_disks). With own_system, the
-  // uniform graph Laplacian of the interior vertices is factorised here for embed(l2, ...).
+  // uniform graph Laplacian of the free vertices is factorised here for embed(l2, ...).
   explicit Layout(const Mesh& disk, bool own_system = true);
   // A workspace over a shared plan.
   explicit Layout(std::shared_ptr<const LayoutPlan> plan, bool own_system = true);
@@ -68,9 +76,9 @@ class Layout {
   Positions embed(const Eigen::VectorXd& l2, double* flatness = nullptr);
   // The same into X (resized if needed), so that repeated frames allocate nothing.
   void embed(const Eigen::VectorXd& l2, Positions& X, double* flatness = nullptr);
-  // The same with the system W: a factorised SparseCholesky over interior_pattern(disk) whose
-  // values() are the factorised matrix plus `shift` on the diagonal (the shift is undone by
-  // iterative refinement). W may be null when the disk has no interior vertex.
+  // The same with the system W: a factorised SparseCholesky over plan().pattern whose values() are
+  // the factorised matrix plus `shift` on the diagonal (the shift is undone by iterative
+  // refinement). W may be null when the piece has no free vertex.
   void embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, Positions& X,
              double* flatness = nullptr);
 
@@ -79,20 +87,21 @@ class Layout {
   void ensure_own_system();
 
   const LayoutPlan& plan() const { return *plan_; }
+  // The half-edge h's vector in the last embed()'s frame (its face placed and rotated): the holes'
+  // closure is the gap of their loops developed by these.
+  void vector_of(const LayoutPlan::HalfEdge& h, double* v) const;
 
  private:
   struct Scratch;
-  // The rotated half-edge vector h in the layout frame.
-  void vector_of(const LayoutPlan::HalfEdge& h, double* v) const;
   void place_faces(const Eigen::VectorXd& l2);      // each face in its own frame, then rotated
-  void place_boundary(Positions& X) const;          // the loop, its closing gap spread by arc length
-  // The right-hand side of the interior system into the scratch, the boundary's positions being in X.
+  void place_boundary(Positions& X) const;          // the outer loop, its closing gap spread by arc length
+  // The right-hand side of the free vertices' system into the scratch, the outer loop's being in X.
   void assemble_rhs(const SparseCholesky& W, double shift, const Positions& X);
-  // The interior positions into X.
-  void solve_interior(SparseCholesky& W, double shift, Positions& X);
+  // The free vertices' positions into X.
+  void solve_free(SparseCholesky& W, double shift, Positions& X);
 
   std::shared_ptr<const LayoutPlan> plan_;
-  std::unique_ptr<SparseCholesky> own_;  // the uniform interior Laplacian (own_system)
+  std::unique_ptr<SparseCholesky> own_;  // the free vertices' uniform Laplacian (own_system)
   std::unique_ptr<Scratch> scratch_;
 };
 

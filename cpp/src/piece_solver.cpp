@@ -61,7 +61,7 @@ class DiskSolver final : public PieceSolver {
 };
 
 // A piece with holes: HoleSolver flattens (one unknown per hole, the periods closed by its dipoles)
-// and lays out (a least-squares fit of the developed edge vectors, docs/HOLES.md).
+// and lays out (the disks' Layout with the holes' vertices free, docs/HOLES.md).
 class HoledSolver final : public PieceSolver {
  public:
   explicit HoledSolver(const PiecePlan& plan) : PieceSolver(plan), holes_(plan.holes->clone()) {}

@@ -1,6 +1,6 @@
 // Pieces with holes (holes.h): the reduced CETM energy, its gradient (angle conditions at interior
 // vertices and the total turning of each hole) and Hessian in the disks' Flattener with the holes'
-// unknowns, the period closure and the least-squares layout.
+// unknowns, the period closure and the layout (the disks' Layout with the holes' vertices free).
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -13,7 +13,9 @@
 #include "detail/warm_start.h"
 #include "flatten.h"
 #include "holes.h"
+#include "layout.h"
 #include "metric_blend.h"
+#include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -201,6 +203,45 @@ TEST(Holes, SolvesABlendAndClosesTheLayoutAroundTheHole) {
     const int i = mesh.edges()(e, 0), j = mesh.edges()(e, 1);
     EXPECT_NEAR((X.row(i) - X.row(j)).norm(), (T.row(i) - T.row(j)).norm(), 1e-12);
   }
+}
+
+// The disks' Layout takes a piece with holes: it walks one loop and solves for every other vertex,
+// the other loop's included, so an exactly flat metric (the bent annulus's own lengths) comes out
+// as the shape up to a rigid motion (mirrored: annulus()'s faces are clockwise, a layout's not).
+TEST(Holes, TheSharedLayoutSolvesForTheHolesVertices) {
+  const Annulus a = annulus(8, 48);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  const Positions T = bent(a), mirrored = T * Eigen::Vector2d(-1, 1).asDiagonal();
+  Layout layout(mesh);
+  double flatness = 1;
+  const Positions X = layout.embed(squared_edge_lengths(mesh, T), &flatness);
+  EXPECT_LT(flatness, 1e-12);
+  EXPECT_LT(testing::rigid_error(X, mirrored), 1e-12);
+}
+
+// HoleSolver::layout is that Layout walking the outer loop (its own uniform Laplacian), bit for
+// bit, and its closure is the gap of the hole's loop developed by the Layout's half-edges. Either
+// loop walked gives the shape of a flat metric.
+TEST(Holes, TheLayoutIsTheSharedOneAroundTheOuterLoop) {
+  const Annulus a = annulus(8, 48);
+  const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
+  const Positions T = bent(a), mirrored = T * Eigen::Vector2d(-1, 1).asDiagonal();
+  const Eigen::VectorXd l2 = squared_edge_lengths(mesh, T);
+  HoleSolver solver(mesh, a.V);
+  Positions X;
+  std::vector<double> closure;
+  EXPECT_LT(solver.layout(l2, X, closure), 1e-12);
+  ASSERT_EQ(closure.size(), 1u);
+  EXPECT_LT(closure[0], 1e-13);
+  EXPECT_LT(testing::rigid_error(X, mirrored), 1e-12);
+  const std::vector<int>& first = mesh.boundary_loops()[0];
+  const int outer = std::find(first.begin(), first.end(), solver.hole(0)[0]) == first.end() ? 0 : 1;
+  Layout around_outer(std::make_shared<const LayoutPlan>(mesh, outer));
+  EXPECT_EQ((around_outer.embed(l2) - X).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_EQ(around_outer.plan().pattern.size(), mesh.num_vertices() - static_cast<int>(around_outer.plan().loop.size()));
+  Layout around_hole(std::make_shared<const LayoutPlan>(mesh, 1 - outer));
+  EXPECT_LT(testing::rigid_error(around_hole.embed(l2), mirrored), 1e-12);
+  EXPECT_THROW(LayoutPlan(mesh, 2), InvalidInput);
 }
 
 // On a slider the periods' Newton step is taken to first order (the sensitivity du/d dipoles kept

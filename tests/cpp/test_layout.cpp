@@ -1,24 +1,15 @@
 #include <gtest/gtest.h>
 
-#include <Eigen/Dense>
-
 #include "flatten.h"
 #include "layout.h"
 #include "metric_blend.h"
+#include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
 
-// Max distance after the best rigid alignment of X onto Y (Kabsch).
-double rigid_error(const Positions& X, const Positions& Y) {
-  const Eigen::RowVector2d cx = X.colwise().mean(), cy = Y.colwise().mean();
-  const Eigen::MatrixX2d A = X.rowwise() - cx, B = Y.rowwise() - cy;
-  Eigen::JacobiSVD<Eigen::Matrix2d> svd(A.transpose() * B, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix2d R = svd.matrixV() * svd.matrixU().transpose();
-  EXPECT_GT(R.determinant(), 0);  // a rotation, not a reflection
-  return ((A * R.transpose()) - B).rowwise().norm().maxCoeff();
-}
+using testing::rigid_error;
 
 TEST(Layout, ReproducesAShapeFromItsEdgeLengthsWithoutDrift) {
   // A long, thin, curved strip: propagation errors would accumulate along it.
@@ -31,6 +22,28 @@ TEST(Layout, ReproducesAShapeFromItsEdgeLengthsWithoutDrift) {
   // Roundoff only: the strip's Laplacian has condition ~1e5, so relative edge errors of ~1e-11.
   EXPECT_LT(flatness, 1e-9);
   EXPECT_LT(rigid_error(X, bent), 1e-11);
+}
+
+// A disk's frame is the plan's: its walked loop's first vertex at the origin, the root face's edge
+// from corner 0 to corner 1 along +x. Against the input shape moved into that frame (a reference
+// computed without the layout), an exactly flat metric comes out to roundoff, not just up to a
+// rigid motion: the disks' path is unchanged by the free hole vertices (holes: test_holes.cpp).
+TEST(Layout, ADiskComesOutInThePlansFrame) {
+  const auto m = testing::jittered_grid(30, 10, 1.0, 0.3, 5);
+  const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 3.0, 0.15); });
+  const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
+  Layout layout(mesh);
+  const Positions X = layout.embed(squared_edge_lengths(mesh, bent));
+  const LayoutPlan& plan = layout.plan();
+  EXPECT_EQ(plan.loop.size(), mesh.boundary_loops()[0].size());
+  EXPECT_EQ(plan.pattern.size(), mesh.num_vertices() - static_cast<int>(plan.loop.size()));
+  const Eigen::RowVector2d axis = (bent.row(m.F(plan.root, 1)) - bent.row(m.F(plan.root, 0))).normalized();
+  Positions reference(bent.rows(), 2);
+  for (int v = 0; v < bent.rows(); ++v) {
+    const Eigen::RowVector2d d = bent.row(v) - bent.row(plan.loop.front());
+    reference.row(v) << axis.x() * d.x() + axis.y() * d.y(), axis.x() * d.y() - axis.y() * d.x();
+  }
+  EXPECT_LT((X - reference).cwiseAbs().maxCoeff(), 1e-12);
 }
 
 TEST(Layout, FacesComeOutCounterClockwise) {

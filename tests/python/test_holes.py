@@ -1,5 +1,6 @@
 """Pieces with holes (issue #10, point 2): one conformal scale per hole with its turning prescribed,
-two dipoles per hole closing its translation period, a least-squares layout (docs/HOLES.md)."""
+two dipoles per hole closing its translation period, the disks' layout with the holes free
+(docs/HOLES.md)."""
 import numpy as np
 import pytest
 
