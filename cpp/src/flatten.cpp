@@ -39,8 +39,10 @@ void merge(FlattenReport& into, const FlattenReport& other) {
 
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {
   const Edges& E = mesh.edges();
+  // exp(u_i + u_j) = exp(u_i) exp(u_j), as the flattening's evaluation scales: one exp per vertex.
+  const Eigen::VectorXd exp_u = u.array().exp();
   Eigen::VectorXd out(E.rows());
-  for (int e = 0; e < E.rows(); ++e) out[e] = l2[e] * std::exp(u[E(e, 0)] + u[E(e, 1)]);
+  for (int e = 0; e < E.rows(); ++e) out[e] = l2[e] * (exp_u[E(e, 0)] * exp_u[E(e, 1)]);
   return out;
 }
 

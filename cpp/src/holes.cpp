@@ -286,9 +286,7 @@ Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
     angle.assign(n, 0.0);
     for (const auto& [i, f, c] : loop_corners_[k]) {
       const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
-      double a[3];
-      triangle_angles(fl2, a);
-      angle[i] += a[c];
+      angle[i] += corner_angle(fl2, c);
     }
     // Edge i runs from loop[i] to loop[i + 1]; the direction turns at loop[i + 1]. (Walking the
     // other way conjugates every period: the closure and the Newton on it do not see the difference.)
