@@ -256,10 +256,7 @@ std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
     throw InvalidInput(Where::of_face(pf[p].front()), s.str());
   }
   std::vector<int> local(mesh.num_vertices(), -1);
-  // A piece's faces in the order of their sorted vertices, as its edges are (build_edges): a chunk of
-  // a face loop then reads the edges and vertices that the same chunk of an edge or vertex loop wrote,
-  // not lines all over (letter_8's faces, in Delaunay insertion order, made its pooled frames ~15 %
-  // slower than serial); and the solution does not depend on the order of the input's faces.
+  // Faces sorted by vertices, as edges are: a pooled face chunk reads lines its own core wrote (BENCHMARKS.md).
   const Faces& G = mesh.faces();
   auto key = [&](int f) {
     std::array<int, 3> k{G(f, 0), G(f, 1), G(f, 2)};
