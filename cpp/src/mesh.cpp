@@ -256,6 +256,14 @@ std::vector<Piece> split(const Mesh& mesh, bool allow_holes) {
     throw InvalidInput(Where::of_face(pf[p].front()), s.str());
   }
   std::vector<int> local(mesh.num_vertices(), -1);
+  // Faces sorted by vertices, as edges are: a pooled face chunk reads lines its own core wrote (BENCHMARKS.md).
+  const Faces& G = mesh.faces();
+  auto key = [&](int f) {
+    std::array<int, 3> k{G(f, 0), G(f, 1), G(f, 2)};
+    std::sort(k.begin(), k.end());
+    return k;
+  };
+  for (auto& faces : pf) std::sort(faces.begin(), faces.end(), [&](int a, int b) { return key(a) < key(b); });
   std::vector<Piece> pieces;
   pieces.reserve(np);
   for (int p = 0; p < np; ++p) {

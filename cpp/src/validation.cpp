@@ -1,5 +1,6 @@
 #include "detail/validation.h"
 
+#include <algorithm>
 #include <cfloat>
 #include <cmath>
 #include <sstream>
@@ -86,10 +87,11 @@ void check_orientation(const Positions& X, const Piece& p, int shape, int piece)
   }
   if (std::abs(total) > 1e-3 * absolute) return;
   std::ostringstream s;
-  s << "the signed areas of piece " << piece << " (the piece of this face: faces " << p.faces.front() << ".."
-    << p.faces.back() << ") cancel (sum " << 0.5 * total << " of total " << 0.5 * absolute
+  const auto [first, last] = std::minmax_element(p.faces.begin(), p.faces.end());  // split() sorts them
+  s << "the signed areas of piece " << piece << " (the piece of this face: faces " << *first << ".." << *last
+    << ") cancel (sum " << 0.5 * total << " of total " << 0.5 * absolute
     << "): its faces are folded over each other and its centroid is undefined";
-  throw InvalidInput(Where::of_face(p.faces.front(), shape), s.str());
+  throw InvalidInput(Where::of_face(*first, shape), s.str());
 }
 
 }  // namespace bdinterp::detail
