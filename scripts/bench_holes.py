@@ -1,7 +1,7 @@
 """Warm frames of a piece with holes against a disk of the same size (issue #21 point 1: a warm
 examples/letter_8 frame should cost at most 1.3x a warm disk frame of the same vertex count).
 
-    /usr/bin/python3 scripts/bench_holes.py [--rounds 5] LABEL=PYTHONPATH [LABEL=PYTHONPATH ...]
+    /usr/bin/python3 scripts/bench_holes.py [--rounds 5] [--threads N] LABEL=PYTHONPATH [LABEL=PYTHONPATH ...]
 
 Each LABEL's bdinterp (its PYTHONPATH) runs in a child process, the labels taking turns round after
 round, so that builds compared share the machine's state. A warm frame is at(t) on a slider: t
@@ -33,14 +33,14 @@ def _disk(n_vertices):
     return V, T, F
 
 
-def child():
+def child(threads):
     import bdinterp
     import bdinterp.io
     X0, X1, F = bdinterp.io.read_pair(ROOT / "examples/letter_8/source.obj", ROOT / "examples/letter_8/target.obj")
     cases = {"letter_8": (X0, X1, F), "disk": _disk(len(X0))}
     out = {}
     for name, (A, B, F) in cases.items():
-        I = bdinterp.Interpolator([A, B], F)
+        I = bdinterp.Interpolator([A, B], F, threads=threads)
         I.at(0.29)
         warm, steps = [], []
         for t in np.arange(0.30, 0.705, 0.01):
@@ -61,16 +61,20 @@ def child():
 
 def main():
     args = sys.argv[1:]
-    rounds = 5
-    if args[:1] == ["--rounds"]:
-        rounds, args = int(args[1]), args[2:]
+    rounds, threads = 5, 0
+    while args[:1] in (["--rounds"], ["--threads"]):
+        if args[0] == "--rounds":
+            rounds = int(args[1])
+        else:
+            threads = int(args[1])
+        args = args[2:]
     labels = [a.split("=", 1) for a in args]
     results = {label: [] for label, _ in labels}
     for _ in range(rounds):
         for label, path in labels:
             env = {"PYTHONPATH": path, "PATH": "/usr/bin:/bin"}
-            r = subprocess.run([sys.executable, __file__, "--child"], env=env, capture_output=True, text=True,
-                               check=True)
+            r = subprocess.run([sys.executable, __file__, "--child", str(threads)], env=env,
+                               capture_output=True, text=True, check=True)
             results[label].append(json.loads(r.stdout))
     print("| build | mesh | vertices | warm ms | cold ms | Newton steps warm | warm / disk warm |")
     print("|---|---|---:|---:|---:|---:|---:|")
@@ -82,4 +86,4 @@ def main():
 
 
 if __name__ == "__main__":
-    child() if sys.argv[1:] == ["--child"] else main()
+    child(int(sys.argv[2])) if sys.argv[1:2] == ["--child"] else main()
