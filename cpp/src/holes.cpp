@@ -12,6 +12,7 @@
 
 #include "geometry.h"
 #include "triangle.h"
+#include "detail/turns.h"
 
 namespace bdinterp {
 namespace {
@@ -20,9 +21,12 @@ namespace {
 // residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
-// First-order closure steps on one sensitivity before a convex solve refreshes it: its staleness
-// grows along a slider and with it the angle residual the step leaves (tests/cpp/test_holes.cpp).
-constexpr int kLinearSteps = 4;
+// First-order closure steps on one sensitivity S before a convex solve refreshes it: S drifts along a
+// slider, and frames with it from cold ones (docs/HOLES.md, tests/cpp/test_holes.cpp).
+constexpr int kLinearSteps = 8;
+// The largest move |S delta|_inf of a first-order step: the angle residual it leaves is up to ~10 %
+// of the move (S's accuracy, docs/HOLES.md), and exp(move) = 1 + move in doubles.
+constexpr double kLinearMove = 1e-10;
 
 // The outer loop of `piece`: the index of the boundary loop enclosing the largest area in `base`.
 int outer_loop(const Mesh& piece, const Positions& base) {
@@ -36,9 +40,8 @@ int outer_loop(const Mesh& piece, const Positions& base) {
 
 // The inner loops of `piece`: every boundary loop but the one `layout` walks (the outer one).
 std::vector<std::vector<int>> inner_loops(const Mesh& piece, const LayoutPlan& layout) {
-  std::vector<std::vector<int>> inner;
-  for (const std::vector<int>& loop : piece.boundary_loops())
-    if (std::find(loop.begin(), loop.end(), layout.loop.front()) == loop.end()) inner.push_back(loop);
+  std::vector<std::vector<int>> inner = piece.boundary_loops();
+  inner.erase(inner.begin() + layout.outer);
   return inner;
 }
 
@@ -194,19 +197,24 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
   return J;
 }
 
-bool HoleSolver::linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
+bool HoleSolver::linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                              Eigen::VectorXd& next) {
   // u moves by the sensitivity times the dipoles' step: what the convex solve would do, up to the
-  // step squared and the sensitivity's staleness (both far below the tolerance at periods ~1e-11),
-  // so a steady frame needs no second convex solve. Kept only if it closes the periods.
+  // step squared and S's error times the move (far below the tolerance for moves ~1e-11), so a
+  // steady frame needs no second convex solve. Kept only if it closes the periods.
   if (sensitivity_age_ >= kLinearSteps) return false;
-  Eigen::VectorXd trial = u + sensitivity_ * delta;
-  flat_ = scale_lengths(*mesh_, l2, trial);
-  next = periods(flat_);
+  const Eigen::VectorXd move = sensitivity_ * delta;
+  if (!(move.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
+  // The flat lengths scale by exp(move_i) exp(move_j) = 1 + move_i + move_j to double precision.
+  const Edges& E = mesh_->edges();
+  trial_flat_.resize(E.rows());
+  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + (move[E(e, 0)] + move[E(e, 1)]));
+  next = periods(trial_flat_);
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
   ++sensitivity_age_;
-  u = std::move(trial);
+  u += move;
   dipole_ += delta;
+  flat_.swap(trial_flat_);
   return true;
 }
 
@@ -224,7 +232,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
   for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
     if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, report), fresh = true;
     const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
-    if (linear_step(l2, delta, aim, u, next)) {
+    if (linear_step(*flat, delta, aim, u, next)) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
       return flat_;
     }
@@ -280,23 +288,42 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
 Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
   const Faces& FE = mesh_->face_edges();
   Eigen::VectorXd out(2 * num_holes());
-  std::vector<double> angle;
+  std::vector<double> re, im;  // per loop vertex: exp(i angle / 2) up to a positive factor
   for (int k = 0; k < num_holes(); ++k) {
     const size_t n = loops_[k].size();
-    angle.assign(n, 0.0);
+    re.assign(n, 1.0);
+    im.assign(n, 0.0);
+    double l[3], x[3], perimeter = 0, q = 0;
+    int face = -1;
     for (const auto& [i, f, c] : loop_corners_[k]) {
-      const double fl2[3] = {l2[FE(f, 0)], l2[FE(f, 1)], l2[FE(f, 2)]};
-      angle[i] += corner_angle(fl2, c);
+      if (f != face) {  // a face's corners at the loop are consecutive: its shape once
+        face = f;
+        for (int j = 0; j < 3; ++j) l[j] = std::sqrt(l2[FE(f, j)]);
+        q = excesses(l, x, &perimeter);
+      }
+      // tan(angle / 2) = q / (perimeter x[c]); a broken face's (pi, 0, 0): pi / 2 at its longest side.
+      const bool up = !(q > 0) && c == longest_side(l);
+      const double a = q > 0 ? perimeter * x[c] : (up ? 0.0 : 1.0), b = q > 0 ? q : (up ? 1.0 : 0.0);
+      const double r = re[i] * a - im[i] * b;
+      im[i] = re[i] * b + im[i] * a;
+      re[i] = r;
+      detail::keep_in_range(re[i], im[i]);
     }
-    // Edge i runs from loop[i] to loop[i + 1]; the direction turns at loop[i + 1]. (Walking the
-    // other way conjugates every period: the closure and the Newton on it do not see the difference.)
+    // Edge i runs from loop[i] to loop[i + 1]; the direction turns by pi - angle at loop[i + 1]:
+    // times -conj(exp(i angle)), the half-angle product squared and normalised (no trigonometry).
+    // (Walking the other way conjugates every period: the closure does not see the difference.)
     std::complex<double> gap = 0;
-    double length = 0, direction = 0;
+    double length = 0, dx = 1, dy = 0;
     for (size_t i = 0; i < n; ++i) {
-      const double l = std::sqrt(l2[loop_edges_[k][i].first]);
-      gap += std::polar(l, direction);
-      length += l;
-      direction += kPi - angle[(i + 1) % n];
+      const double li = std::sqrt(l2[loop_edges_[k][i].first]);
+      gap += std::complex<double>(li * dx, li * dy);
+      length += li;
+      const size_t j = (i + 1) % n;
+      const double norm = re[j] * re[j] + im[j] * im[j];
+      const double tx = (im[j] * im[j] - re[j] * re[j]) / norm, ty = 2 * re[j] * im[j] / norm;
+      const double nx = dx * tx - dy * ty;
+      dy = dx * ty + dy * tx;
+      dx = nx;
     }
     out[2 * k] = gap.real() / length;
     out[2 * k + 1] = gap.imag() / length;
@@ -317,7 +344,7 @@ double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<d
       double v[2];
       layout_.vector_of(layout_plan_->half_edge(loop_edges_[k][i].first, loops_[k][i]), v);
       gap += std::complex<double>(v[0], v[1]);
-      length += std::hypot(v[0], v[1]);
+      length += std::sqrt(v[0] * v[0] + v[1] * v[1]);
     }
     closure[k] = std::abs(gap) / length;
   }

@@ -98,9 +98,10 @@ class HoleSolver {
   // d periods / d dipoles at u (whose periods are `period`) by finite differences.
   Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
-  // The dipoles' step delta taken to first order (u += sensitivity_ * delta, no convex solve): kept,
-  // with its periods in next, if they are finite and below aim; else u and dipole_ are unchanged.
-  bool linear_step(const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
+  // The dipoles' step delta taken to first order from u, whose flat squared lengths are flat
+  // (u += sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat
+  // lengths in flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
+  bool linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                    Eigen::VectorXd& next);
   // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns the
   // flat squared lengths of the final u (the Flattener's or flat_).
@@ -121,6 +122,7 @@ class HoleSolver {
   Eigen::MatrixXd sensitivity_;           // #V by 2 #holes: d u / d dipoles of the convex solution, too
   int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
   Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
+  Eigen::VectorXd trial_flat_;            // linear_step's candidate for flat_
   const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
   // The plans are shared by copies (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;

@@ -43,7 +43,7 @@ LayoutPlan::HalfEdge LayoutPlan::half_edge(int e, int from) const {
   return {f, c, mesh.faces()(f, (c + 1) % 3) == from ? 1.0 : -1.0};
 }
 
-LayoutPlan::LayoutPlan(const Mesh& piece, int outer, bool share_analysis) : mesh(piece) {
+LayoutPlan::LayoutPlan(const Mesh& piece, int outer_loop, bool share_analysis) : mesh(piece), outer(outer_loop) {
   const Faces& F = piece.faces();
   const Edges& E = piece.edges();
   const Edges& EF = piece.edge_faces();
@@ -54,6 +54,7 @@ LayoutPlan::LayoutPlan(const Mesh& piece, int outer, bool share_analysis) : mesh
   std::vector<int> col_ptr, rows;  // for the shared analysis (else ensure_own_system builds them again)
   pattern = unknowns_pattern(piece, index, n, col_ptr, rows);
   if (share_analysis && n > 0) uniform = std::make_shared<const CholeskyAnalysis>(n, std::move(col_ptr), std::move(rows));
+  for (int e = 0; e < E.rows(); ++e) one_sided |= pattern.edge_pos[e] >= 0 && EF(e, 1) < 0;
   // The boundary half-edges (each face's half-edge c runs from corner c+1 to corner c+2, so the
   // piece lies to their left), chained into the outer loop from its smallest vertex.
   std::vector<HalfEdge> leaving(piece.num_vertices(), HalfEdge{-1, -1, 1.0});
@@ -201,18 +202,32 @@ void Layout::place_faces(const Eigen::VectorXd& l2) {
   // Rotations as unit complex numbers (cos, sin), propagated over the dual tree: the shared edge is
   // the same vector seen from both faces, run in opposite directions, so
   // rot_g = -rot_f h_f conj(h_g) / |h_f h_g|, where |h_f| = |h_g| = the edge's length unless a face
-  // is broken (its sides then do not close up).
+  // is broken (its sides then do not close up; the product is normalised instead). The turn
+  // rot_g / rot_f comes from the local frames alone, in parallel, into rot_g's row; the walk is then
+  // one complex product a face.
+  const std::vector<Mesh::DualStep>& tree = plan_->tree;
+  parallel::for_each(parallel::loop_threads(static_cast<long>(tree.size())), static_cast<long>(tree.size()),
+                     [&](int, long k) {
+    const Mesh::DualStep& st = tree[k];
+    double lf[3][2], lg[3][2];
+    local_half_edges(&s.local(st.parent, 0), lf);
+    local_half_edges(&s.local(st.face, 0), lg);
+    const double *hf = lf[st.parent_corner], *hg = lg[st.face_corner];
+    const double inv = s.broken[st.face] || s.broken[st.parent] ? 1.0 : 1.0 / l2[FE(st.face, st.face_corner)];
+    s.rot(st.face, 0) = -(hf[0] * hg[0] + hf[1] * hg[1]) * inv;
+    s.rot(st.face, 1) = (hf[0] * hg[1] - hf[1] * hg[0]) * inv;
+  });
   s.rot.row(plan_->root) << 1.0, 0.0;
-  for (const Mesh::DualStep& st : plan_->tree) {
-    double hf[2], local[3][2];
-    vector_of({st.parent, st.parent_corner, 1.0}, hf);  // rotated by rot_f already
-    local_half_edges(&s.local(st.face, 0), local);
-    const double* hg = local[st.face_corner];
-    const double zr = -(hf[0] * hg[0] + hf[1] * hg[1]), zi = hf[0] * hg[1] - hf[1] * hg[0];
-    const double inv = s.broken[st.face] || s.broken[st.parent] ? 1.0 / std::sqrt(zr * zr + zi * zi)
-                                                                : 1.0 / l2[FE(st.face, st.face_corner)];
-    s.rot(st.face, 0) = zr * inv;
-    s.rot(st.face, 1) = zi * inv;
+  for (const Mesh::DualStep& st : tree) {  // breadth-first: the parent's rotation is final
+    const double c = s.rot(st.parent, 0), sn = s.rot(st.parent, 1), a = s.rot(st.face, 0), b = s.rot(st.face, 1);
+    double re = c * a - sn * b, im = c * b + sn * a;
+    if (s.broken[st.face] || s.broken[st.parent]) {
+      const double inv = 1.0 / std::sqrt(re * re + im * im);
+      re *= inv;
+      im *= inv;
+    }
+    s.rot(st.face, 0) = re;
+    s.rot(st.face, 1) = im;
   }
 }
 
@@ -260,6 +275,7 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
     }
   }
   const int threads = parallel::loop_threads(nf);
+  const bool one_sided = plan_->one_sided;  // a disk's free edges all have two faces
   s.rhs_parts.prepare(threads, 2 * n);
   for (int k = 0; k < threads; ++k) std::fill_n(s.rhs_parts.buffer(k, s.rhs.data()), 2 * n, 0.0);
   parallel::for_each(threads, nf, [&](int k, long f) {
@@ -273,7 +289,7 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
       const int i = pattern.index[F(f, (c + 1) % 3)], j = pattern.index[F(f, (c + 2) % 3)];
       // X_j - X_i as this face sees it: its half-edge rotated into the layout frame.
       const double d0 = rc * local[c][0] - rs * local[c][1], d1 = rs * local[c][0] + rc * local[c][1];
-      const double w = (EF(FE(f, c), 1) >= 0 ? 0.5 : 1.0) * M[p];  // = -(this face's share of the weight)
+      const double w = (one_sided && EF(FE(f, c), 1) < 0 ? 1.0 : 0.5) * M[p];  // -(this face's share)
       b[i] += w * d0;
       b[n + i] += w * d1;
       b[j] -= w * d0;

@@ -49,7 +49,9 @@ struct LayoutPlan {
   HalfEdge half_edge(int e, int from) const;
 
   const Mesh& mesh;
+  int outer = 0;                    // the index in mesh.boundary_loops() of the loop walked
   InteriorPattern pattern;          // over the free vertices (numbered in increasing vertex order)
+  bool one_sided = false;           // some edge between free vertices has one face (a hole's)
   int root = 0;                     // the central face, in the layout frame's orientation
   std::vector<Mesh::DualStep> tree;  // breadth-first from the root (not listed)
   std::vector<int> loop;            // the outer loop's vertices in order (the piece on the left)

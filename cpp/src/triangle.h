@@ -110,13 +110,4 @@ inline bool triangle_angles(const double l2[3], double angle[3], double* cot = n
   return broken;
 }
 
-// The angle at corner c alone, as triangle_angles gives it (one arctangent instead of three).
-inline double corner_angle(const double l2[3], int c) {
-  const double l[3] = {std::sqrt(l2[0]), std::sqrt(l2[1]), std::sqrt(l2[2])};
-  double x[3], perimeter;
-  const double q = excesses(l, x, &perimeter);
-  if (!(q > 0)) return c == longest_side(l) ? kPi : 0.0;
-  return 2 * atan_positive(q, perimeter * x[c]);
-}
-
 }  // namespace bdinterp

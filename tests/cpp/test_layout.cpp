@@ -37,6 +37,7 @@ TEST(Layout, ADiskComesOutInThePlansFrame) {
   const LayoutPlan& plan = layout.plan();
   EXPECT_EQ(plan.loop.size(), mesh.boundary_loops()[0].size());
   EXPECT_EQ(plan.pattern.size(), mesh.num_vertices() - static_cast<int>(plan.loop.size()));
+  EXPECT_FALSE(plan.one_sided);  // every edge between free vertices has two faces
   const Eigen::RowVector2d axis = (bent.row(m.F(plan.root, 1)) - bent.row(m.F(plan.root, 0))).normalized();
   Positions reference(bent.rows(), 2);
   for (int v = 0; v < bent.rows(); ++v) {
