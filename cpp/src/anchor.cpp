@@ -22,6 +22,7 @@ AnchorFrame::AnchorFrame(const Mesh& disk, const Positions& base, int vertex)
   // Unwrapping order: breadth-first over the dual graph from face 0.
   std::vector<int> slot_of(F.rows(), -1);
   slot_of[0] = 0;
+  tree_.reserve(F.rows());
   tree_.push_back({0, -1});
   for (const Mesh::DualStep& st : disk.dual_walk({0})) {
     slot_of[st.face] = static_cast<int>(tree_.size());

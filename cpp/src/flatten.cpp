@@ -82,10 +82,9 @@ FlattenPlan::FlattenPlan(const Mesh& piece, FlattenUnknowns unknowns) : mesh(pie
       const int a = pattern.index[F(f, (c + 1) % 3)], b = pattern.index[F(f, (c + 2) % 3)];
       s.edge[c] = FE(f, c);
       s.row[c] = i >= 0 ? i : n;
-      // Both ends one unknown: w + w - 2w = 0, so no term at all.
-      s.end[c][0] = a >= 0 && a != b ? pattern.diag_pos[a] : nnz;
-      s.end[c][1] = b >= 0 && a != b ? pattern.diag_pos[b] : nnz;
-      s.off[c] = p >= 0 ? p : nnz;
+      s.diag[c] = i >= 0 ? pattern.diag_pos[i] : nnz;
+      // Both ends one unknown (a hole's loop): w + w - 2w = 0, so no term at all.
+      s.off[c] = a >= 0 && a == b ? -1 : (p >= 0 ? p : nnz);
     }
   }
 }

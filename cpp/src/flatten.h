@@ -47,10 +47,10 @@ struct FlattenPlan {
   // Per face, where its terms go, with fixed vertices sent to spare slots (row num_interior() of the
   // angle sums, entry nnz() of the Hessian values) so that the face loops need no branches.
   struct FaceSlots {
-    int edge[3];     // edge opposite corner c
-    int row[3];      // unknown of corner c
-    int end[3][2];   // Hessian positions of the diagonals of edge c's ends (corners c+1, c+2)
-    int off[3];      // Hessian position of the entry of edge c
+    int edge[3];  // edge opposite corner c
+    int row[3];   // unknown of corner c
+    int diag[3];  // Hessian position of corner c's diagonal
+    int off[3];   // Hessian position of the entry of edge c; -1: both ends one unknown, no term
   };
 
   const Mesh& mesh;

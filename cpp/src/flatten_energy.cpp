@@ -15,9 +15,10 @@ using FaceSlots = FlattenPlan::FaceSlots;
 // Adds the cotan weights (cot / 2) of one face to the Hessian values H.
 inline void scatter_cotangents(const double cot[3], const FaceSlots& s, double* H) {
   for (int c = 0; c < 3; ++c) {
+    if (s.off[c] < 0) continue;
     const double w = 0.5 * cot[c];
-    H[s.end[c][0]] += w;
-    H[s.end[c][1]] += w;
+    H[s.diag[(c + 1) % 3]] += w;
+    H[s.diag[(c + 2) % 3]] += w;
     H[s.off[c]] -= w;
   }
 }

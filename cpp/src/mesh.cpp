@@ -54,7 +54,7 @@ void check_face_indices(const Faces& F, int num_vertices) {
 Mesh::Mesh(const Faces& F, int num_vertices) : num_vertices_(num_vertices), F_(F) {
   check_face_indices(F, num_vertices);
   build_edges();
-  build_vertex_faces();
+  find_fan_starts();
   const std::vector<int> next_on_boundary = chain_boundary();
   find_pieces();
   check_fans();
@@ -156,22 +156,35 @@ void Mesh::find_pieces() {
   }
 }
 
-void Mesh::build_vertex_faces() {
-  vf_start_.assign(num_vertices_ + 1, 0);
-  for (int f = 0; f < F_.rows(); ++f)
-    for (int c = 0; c < 3; ++c) ++vf_start_[F_(f, c) + 1];
-  std::partial_sum(vf_start_.begin(), vf_start_.end(), vf_start_.begin());
-  vf_.resize(3 * static_cast<size_t>(F_.rows()));
-  std::vector<int> fill(vf_start_.begin(), vf_start_.end() - 1);
-  for (int f = 0; f < F_.rows(); ++f)
-    for (int c = 0; c < 3; ++c) vf_[fill[F_(f, c)]++] = f;
+void Mesh::find_fan_starts() {
+  fan_start_.assign(num_vertices_, -1);
+  for (int f = F_.rows() - 1; f >= 0; --f)
+    for (int c = 0; c < 3; ++c) fan_start_[F_(f, c)] = f;  // the lowest face at each vertex
+  // Back round each vertex to the end of an open fan. The faces round v are a chain or a cycle (an
+  // edge has at most two faces, oppositely oriented), so the walk ends within the vertex's faces.
+  for (int v = 0; v < num_vertices_; ++v) {
+    const int f0 = fan_start_[v];
+    if (f0 < 0) continue;
+    int end = f0, f = previous_round(f0, v);
+    for (; f >= 0 && f != f0; f = previous_round(f, v)) end = f;
+    if (f < 0) fan_start_[v] = end;  // else a closed fan: start at its lowest face
+  }
+}
+
+int Mesh::FaceRange::size() const {
+  int n = 0;
+  for (iterator i = begin(); i != end(); ++i) ++n;
+  return n;
 }
 
 void Mesh::check_fans() const {
+  std::vector<int> faces_at(num_vertices_, 0);
+  for (int f = 0; f < F_.rows(); ++f)
+    for (int c = 0; c < 3; ++c) ++faces_at[F_(f, c)];
   for (int v = 0; v < num_vertices_; ++v) {
-    if (one_fan_at(v, [](int) { return true; })) continue;
+    if (vertex_faces(v).size() == faces_at[v]) continue;  // the fan from fan_start_ holds them all
     std::ostringstream s;
-    s << "non-manifold: its " << vertex_faces(v).size() << " faces do not form a single fan";
+    s << "non-manifold: its " << faces_at[v] << " faces do not form a single fan";
     throw InvalidInput(Where::of_vertex(v), s.str());
   }
 }

@@ -42,14 +42,32 @@ class Mesh {
   // A face farthest (in dual steps) from the boundary (the last one a walk from the boundary faces
   // reaches): short dual paths to every face of its piece. Face 0 on a closed mesh.
   int central_face() const;
-  // The faces at vertex v, ascending (none for an isolated vertex): a range of face indices.
-  struct FaceRange {
-    const int *first, *last;
-    const int* begin() const { return first; }
-    const int* end() const { return last; }
-    int size() const { return static_cast<int>(last - first); }
+  // The faces at vertex v, each once (none for an isolated vertex), clockwise round v for
+  // counter-clockwise faces: a closed fan from its lowest face, an open one from end to end. A range
+  // walked across the edges at v: no list is stored (it was 28 bytes a vertex).
+  class FaceRange {
+   public:
+    struct iterator {
+      const Mesh* mesh;
+      int v, start, f;
+      int operator*() const { return f; }
+      iterator& operator++() {
+        f = mesh->next_round(f, v);
+        if (f == start) f = -1;
+        return *this;
+      }
+      bool operator!=(const iterator& o) const { return f != o.f; }
+    };
+    FaceRange(const Mesh* mesh, int v) : mesh_(mesh), v_(v) {}
+    iterator begin() const { return {mesh_, v_, mesh_->fan_start_[v_], mesh_->fan_start_[v_]}; }
+    iterator end() const { return {mesh_, v_, mesh_->fan_start_[v_], -1}; }
+    int size() const;
+
+   private:
+    const Mesh* mesh_;
+    int v_;
   };
-  FaceRange vertex_faces(int v) const { return {vf_.data() + vf_start_[v], vf_.data() + vf_start_[v + 1]}; }
+  FaceRange vertex_faces(int v) const { return FaceRange(this, v); }
   // The corner of face f at its vertex v (v must be a vertex of f).
   int corner_of_vertex(int f, int v) const { return F_(f, 0) == v ? 0 : (F_(f, 1) == v ? 1 : 2); }
   // Whether the faces at v with keep(f) form at most one fan (are joined across the edges at v):
@@ -70,7 +88,10 @@ class Mesh {
 
  private:
   void build_edges();
-  void build_vertex_faces();
+  void find_fan_starts();
+  // The face after / before f round its vertex v, across an edge of f at v; -1 past the boundary.
+  int next_round(int f, int v) const { return opposite_face(FE_(f, (corner_of_vertex(f, v) + 2) % 3), f); }
+  int previous_round(int f, int v) const { return opposite_face(FE_(f, (corner_of_vertex(f, v) + 1) % 3), f); }
   std::vector<int> chain_boundary();  // next vertex along the boundary, -1 inside
   void find_pieces();
   void check_fans() const;
@@ -81,7 +102,7 @@ class Mesh {
   Edges E_;
   Faces FE_;
   Edges EF_;
-  std::vector<int> vf_start_, vf_;  // vertex_faces(v): vf_[vf_start_[v] .. vf_start_[v + 1])
+  std::vector<int> fan_start_;  // per vertex: where vertex_faces starts (an open fan's end), -1 if isolated
   std::vector<bool> boundary_vertex_;
   int num_pieces_ = 0;
   std::vector<int> face_piece_, vertex_piece_;
@@ -91,23 +112,17 @@ class Mesh {
 
 template <typename Keep>
 bool Mesh::one_fan_at(int v, Keep keep) const {
-  int start = -1, kept = 0;
+  int runs = 0, first = -1;  // runs of kept faces in fan order
+  bool last_kept = false;
   for (int f : vertex_faces(v)) {
-    if (!keep(f)) continue;
-    if (start < 0) start = f;
-    ++kept;
+    const bool kept = keep(f);
+    if (kept && !last_kept) ++runs;
+    if (first < 0) first = f;
+    last_kept = kept;
   }
-  if (kept < 2) return true;
-  // The kept face after f round v: across the edge opposite corner c + step (2: counter-clockwise).
-  auto next = [&](int f, int step) {
-    const int g = opposite_face(FE_(f, (corner_of_vertex(f, v) + step) % 3), f);
-    return g >= 0 && keep(g) ? g : -1;
-  };
-  int count = 1, f = next(start, 2);
-  for (; f >= 0 && f != start && count <= kept; f = next(f, 2)) ++count;
-  if (f != start)  // an open fan: count the faces clockwise from the start as well
-    for (f = next(start, 1); f >= 0 && f != start && count <= kept; f = next(f, 1)) ++count;
-  return count == kept;
+  // Round an inner vertex the fan closes: a run through its last and first faces is one.
+  if (runs > 1 && !is_boundary_vertex(v) && last_kept && keep(first)) --runs;
+  return runs <= 1;
 }
 
 // A connected piece extracted as a mesh of its own. `vertices` maps local to global vertex indices,

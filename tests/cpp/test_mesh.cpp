@@ -56,6 +56,13 @@ TEST(Mesh, RejectsBowtieVertex) {
   expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 3, 4}}), 5); }, "vertex 0: non-manifold");
 }
 
+TEST(Mesh, RejectsAVertexWithAClosedAndAnOpenFanInOnePiece) {
+  // Vertex 0 is inside the closed fan of faces 0-2 and at the tip of face 5; faces 3 and 4 join
+  // both across edges, so it is one piece whose boundary passes 0 once: only the fans tell.
+  expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {2, 1, 4}, {5, 4, 1}, {0, 4, 5}}), 6); },
+                 "vertex 0: non-manifold: its 4 faces do not form a single fan");
+}
+
 TEST(Mesh, SplitsPiecesAndRejectsHoles) {
   const auto m = testing::jittered_grid(2, 2);
   // Two copies side by side: two pieces.
@@ -80,16 +87,20 @@ TEST(Mesh, IsolatedVerticesBelongToNoPiece) {
   EXPECT_EQ(mesh.piece_of_vertex(3), -1);
 }
 
-TEST(Mesh, VertexFacesListEachFaceAtItsThreeVertices) {
+TEST(Mesh, VertexFacesListEachFaceAtItsThreeVerticesInFanOrder) {
   // A hexagon fan round vertex 0 (faces 0..5) and an isolated vertex 7.
   const Mesh mesh(faces({{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}, {0, 5, 6}, {0, 6, 1}}), 8);
   const auto list = [&](int v) {
-    const Mesh::FaceRange r = mesh.vertex_faces(v);
-    return std::vector<int>(r.begin(), r.end());
+    std::vector<int> out;
+    for (int f : mesh.vertex_faces(v)) out.push_back(f);
+    return out;
   };
-  EXPECT_EQ(list(0), (std::vector<int>{0, 1, 2, 3, 4, 5}));
-  EXPECT_EQ(list(1), (std::vector<int>{0, 5}));
+  // Clockwise round v (the faces are counter-clockwise), each face once: the closed fan from its
+  // lowest face, an open fan from one end to the other.
+  EXPECT_EQ(list(0), (std::vector<int>{0, 5, 4, 3, 2, 1}));
+  EXPECT_EQ(list(1), (std::vector<int>{5, 0}));
   EXPECT_EQ(list(4), (std::vector<int>{2, 3}));
+  EXPECT_EQ(mesh.vertex_faces(4).size(), 2);
   EXPECT_EQ(mesh.vertex_faces(7).size(), 0);
   EXPECT_EQ(mesh.corner_of_vertex(3, 5), 2);
 }
