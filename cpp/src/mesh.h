@@ -44,7 +44,7 @@ class Mesh {
   int central_face() const;
   // The faces at vertex v, each once (none for an isolated vertex), clockwise round v for
   // counter-clockwise faces: a closed fan from its lowest face, an open one from end to end. A range
-  // walked across the edges at v: no list is stored (it was 28 bytes a vertex).
+  // walked across the edges at v, so no list is stored (peak memory: docs/BENCHMARKS.md).
   class FaceRange {
    public:
     struct iterator {
