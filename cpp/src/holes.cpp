@@ -203,16 +203,16 @@ bool HoleSolver::linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd&
   // step squared and S's error times the move (far below the tolerance for moves ~1e-11), so a
   // steady frame needs no second convex solve. Kept only if it closes the periods.
   if (sensitivity_age_ >= kLinearSteps) return false;
-  const Eigen::VectorXd move = sensitivity_ * delta;
-  if (!(move.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
+  move_.noalias() = sensitivity_ * delta;
+  if (!(move_.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
   // The flat lengths scale by exp(move_i) exp(move_j) = 1 + move_i + move_j to double precision.
   const Edges& E = mesh_->edges();
   trial_flat_.resize(E.rows());
-  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + (move[E(e, 0)] + move[E(e, 1)]));
+  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + (move_[E(e, 0)] + move_[E(e, 1)]));
   next = periods(trial_flat_);
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
   ++sensitivity_age_;
-  u += move;
+  u += move_;
   dipole_ += delta;
   flat_.swap(trial_flat_);
   return true;
@@ -236,7 +236,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
       return flat_;
     }
-    const Eigen::VectorXd before = u;
+    before_ = u;
     set_dipoles(dipole_ + delta, u);
     convex_solve(l2, u, options, report);
     next = solved_periods();
@@ -245,7 +245,9 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
     if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
     if (halved) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
-      sensitivity_ += (u - before - sensitivity_ * delta) * delta.transpose() / delta.squaredNorm();
+      move_.noalias() = sensitivity_ * delta;
+      move_ = u - before_ - move_;
+      sensitivity_.noalias() += move_ * (delta.transpose() / delta.squaredNorm());
       sensitivity_age_ = 0;
       fresh = false;
     } else {

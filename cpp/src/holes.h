@@ -123,6 +123,9 @@ class HoleSolver {
   int sensitivity_age_ = 0;               // first-order steps taken since sensitivity_ was last updated
   Eigen::VectorXd flat_;                  // flat squared lengths of a u the Flattener did not solve
   Eigen::VectorXd trial_flat_;            // linear_step's candidate for flat_
+  // #V workspaces of the closure, kept: a frame allocates nothing large (freed large blocks cost
+  // page faults and, under jemalloc as in Blender, madvise and TLB flushes on every core).
+  Eigen::VectorXd move_, before_;
   const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
   // The plans are shared by copies (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;

@@ -36,6 +36,13 @@ void check_shape(const Mesh& mesh, const Positions& X, int shape) {
 
 Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>& l2,
                                       const Eigen::VectorXd& w) {
+  Eigen::VectorXd out;
+  blend_squared_lengths(mesh, l2, w, out);
+  return out;
+}
+
+void blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>& l2, const Eigen::VectorXd& w,
+                           Eigen::VectorXd& out) {
   if (l2.empty() || static_cast<Eigen::Index>(l2.size()) != w.size()) {
     std::ostringstream s;
     s << "got " << w.size() << " weights for " << l2.size() << " shapes";
@@ -44,13 +51,13 @@ Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen:
   for (Eigen::Index i = 0; i < w.size(); ++i) {
     if (!std::isfinite(w[i])) throw InvalidInput(Where::of_shape(static_cast<int>(i)), "its weight is not finite");
   }
-  Eigen::VectorXd out = w[0] * l2[0];
+  out = w[0] * l2[0];  // in place when sized: no large allocation a frame
   for (size_t i = 1; i < l2.size(); ++i) out += w[static_cast<Eigen::Index>(i)] * l2[i];
   // With weights >= 0 the blend is valid by construction (paper, Sec. 4): Euclidean squared-length
   // triples form a convex cone, and 4 area = sqrt(Heron's quadratic form) is concave on it (a
   // reverse triangle inequality), so a blended face's area is at least the weighted mean of the
   // inputs' areas. Only extrapolation needs the check.
-  if ((w.array() >= 0).all()) return out;
+  if ((w.array() >= 0).all()) return;
   const Faces& FE = mesh.face_edges();
   for (int f = 0; f < FE.rows(); ++f) {
     const double a = out[FE(f, 0)], b = out[FE(f, 1)], c = out[FE(f, 2)];
@@ -64,7 +71,6 @@ Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen:
       throw InvalidInput(Where::of_face(f), s.str());
     }
   }
-  return out;
 }
 
 }  // namespace bdinterp

@@ -22,6 +22,9 @@ void check_shape(const Mesh& mesh, const Positions& X, int shape);
 // Requires l2.size() == w.size() >= 1 and every l2[i].size() == mesh.num_edges().
 Eigen::VectorXd blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>& l2,
                                       const Eigen::VectorXd& w);
+// The same into `out` (resized to #E; its storage reused when it has that size already).
+void blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>& l2, const Eigen::VectorXd& w,
+                           Eigen::VectorXd& out);
 
 // 16 * area^2 of a triangle from its squared edge lengths (Heron); <= 0 when the triangle
 // inequality fails.

@@ -138,7 +138,7 @@ void PieceSolver::continue_from(const PieceSolver& other) {
   history_ = other.history_;
 }
 
-void PieceSolver::blend(const Eigen::VectorXd& w) { l2w_ = blend_squared_lengths(plan_.piece.mesh, plan_.l2, w); }
+void PieceSolver::blend(const Eigen::VectorXd& w) { blend_squared_lengths(plan_.piece.mesh, plan_.l2, w, l2w_); }
 
 void PieceSolver::predict(const Eigen::VectorXd& w) { history_.predict(w, u_); }
 
