@@ -90,9 +90,11 @@ class FoldFill {
 
  private:
   struct Plan;
+  struct Work;
   FoldRegion region_;
   std::unique_ptr<Plan> plan_;
   mutable std::mutex mutex_;
+  std::unique_ptr<Work> work_;  // fill()'s buffers (under mutex_)
 };
 
 }  // namespace bdinterp

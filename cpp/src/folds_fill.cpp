@@ -7,7 +7,7 @@
 #include <array>
 #include <deque>
 #include <limits>
-#include <queue>
+#include <functional>
 #include <utility>
 
 #include "folds.h"
@@ -30,7 +30,20 @@ constexpr double kUnset = std::numeric_limits<double>::quiet_NaN();
 // with 2, 0.15 % / 0.11 % with 3 (docs/FOLDS.md).
 constexpr double kOverRelax = 2;
 
+using Entry = std::pair<double, int>;  // (path cost, face) of lift()'s queue
+
 }  // namespace
+
+// fill()'s buffers, kept between frames (under mutex_): a frame allocates nothing large, as every
+// freed large block costs page faults and, under jemalloc as in Blender, madvise (docs/BENCHMARKS.md).
+struct FoldFill::Work {
+  Eigen::VectorXd blend, ang, th, delta, b, x;  // per face; the harmonic system's rhs and solution
+  std::vector<double> cost;                     // lift()'s path costs and queue
+  std::vector<Entry> heap;
+  std::vector<Eigen::Matrix2d> G, target;  // per R face
+  Positions X0;
+  Eigen::MatrixXd rhs, z;  // the Poisson system's
+};
 
 struct FoldFill::Plan {
   Mesh mesh;
@@ -61,15 +74,18 @@ struct FoldFill::Plan {
   // through the faces with allow[f]: each reached face takes the branch nearest its neighbour's on
   // the path with the least total turn (Dijkstra), so that the value does not depend on the order
   // of a walk that may cross a collapsed face (where neighbours differ by up to pi).
-  void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta) const {
-    using Entry = std::pair<double, int>;
-    std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> queue;
-    std::vector<double> cost(theta.size(), std::numeric_limits<double>::infinity());
+  // cost, queue: buffers (queue a binary heap, popped in std::priority_queue's order).
+  void lift(const Eigen::VectorXd& ang, const std::vector<char>& allow, Eigen::VectorXd& theta,
+            std::vector<double>& cost, std::vector<Entry>& queue) const {
+    const std::greater<Entry> later;
+    cost.assign(theta.size(), std::numeric_limits<double>::infinity());
+    queue.clear();
     for (int f = 0; f < theta.size(); ++f)
-      if (!std::isnan(theta[f])) cost[f] = 0, queue.emplace(0.0, f);
+      if (!std::isnan(theta[f])) cost[f] = 0, queue.emplace_back(0.0, f), std::push_heap(queue.begin(), queue.end(), later);
     while (!queue.empty()) {
-      const auto [c, f] = queue.top();
-      queue.pop();
+      std::pop_heap(queue.begin(), queue.end(), later);
+      const auto [c, f] = queue.back();
+      queue.pop_back();
       if (c > cost[f]) continue;
       for (int k = 0; k < 3; ++k) {
         const int g = mesh.opposite_face(mesh.face_edges()(f, k), f);
@@ -78,7 +94,8 @@ struct FoldFill::Plan {
         if (total >= cost[g]) continue;
         cost[g] = total;
         theta[g] = theta[f] + step;
-        queue.emplace(total, g);
+        queue.emplace_back(total, g);
+        std::push_heap(queue.begin(), queue.end(), later);
       }
     }
   }
@@ -99,10 +116,12 @@ struct FoldFill::Plan {
     }
   }
 
-  // The harmonic extension over R's dual graph of `values` on M' (#F; R rows ignored) into R's rows.
-  void extend(Eigen::VectorXd& values) const {
+  // The harmonic extension over R's dual graph of `values` on M' (#F; R rows ignored) into R's rows;
+  // b, x: buffers.
+  void extend(Eigen::VectorXd& values, Eigen::VectorXd& b, Eigen::VectorXd& x) const {
     const int n = static_cast<int>(harmonic->size());
-    Eigen::VectorXd b = Eigen::VectorXd::Zero(n), x(n);
+    b.setZero(n);
+    x.resize(n);
     for (int f = 0; f < values.size(); ++f) {
       if (r_index[f] < 0) continue;
       for (int c = 0; c < 3; ++c) {
@@ -122,9 +141,8 @@ struct FoldFill::Plan {
 
   void find_parts(const std::vector<char>& in_region);
   void plan_bounds(const FoldRegion& region, const FoldOptions& options);
-  Eigen::MatrixXd rhs(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, const Positions& X) const;
-  void solve(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, const Positions& X0,
-             Eigen::Ref<Positions> X) const;
+  void rhs(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, const Positions& X, Eigen::MatrixXd& b) const;
+  void solve(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, Work& work, Eigen::Ref<Positions> X) const;
   void plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces);
   void to_anchor_branch(Eigen::VectorXd& theta) const;
   void plan_systems(const FoldRegion& region);
@@ -188,6 +206,7 @@ void FoldFill::Plan::to_anchor_branch(Eigen::VectorXd& theta) const {
 void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const std::vector<int>& region_faces) {
   const int nf = mesh.num_faces();
   const std::vector<char> all(nf, 1);
+  Work work;
   for (size_t i = 0; i < shapes.size(); ++i) {
     const Positions& X = shapes[i];
     const std::vector<char>& unfolded = this->unfolded[i];
@@ -195,13 +214,13 @@ void FoldFill::Plan::plan_rotations(const std::vector<Positions>& shapes, const 
     for (int f = 0; f < nf; ++f) ang[f] = polar_angle(face_jacobian(X, mesh.faces(), f, base_inverse[f]));
     for (size_t p = 0; p < ref.size(); ++p)
       if (main[p]) th[ref[p]] = ang[ref[p]];
-    lift(ang, unfolded, th);  // through the faces this input does not fold, then through the rest
-    lift(ang, all, th);
+    lift(ang, unfolded, th, work.cost, work.heap);  // through the faces this input does not fold, then the rest
+    lift(ang, all, th, work.cost, work.heap);
     to_anchor_branch(th);
     // Over R: the harmonic extension of M's field, moved to the face's own rotation where it does
     // not fold (the branch nearest the extension), except in components of R with sheared faces.
     Eigen::VectorXd h = th;
-    extend(h);
+    extend(h, work.b, work.x);
     for (int f : region_faces) th[f] = unfolded[f] && !smooth[f] ? h[f] + wrap_angle(ang[f] - h[f]) : h[f];
     theta.push_back(th);
     J.emplace_back();
@@ -267,7 +286,7 @@ void FoldFill::Plan::plan_bounds(const FoldRegion& region, const FoldOptions& op
 
 FoldFill::FoldFill(const Mesh& mesh, const std::vector<Positions>& shapes, int base, FoldRegion region,
                    const FoldOptions& options)
-    : region_(std::move(region)), plan_(std::make_unique<Plan>(mesh)) {
+    : region_(std::move(region)), plan_(std::make_unique<Plan>(mesh)), work_(std::make_unique<Work>()) {
   Plan& p = *plan_;
   const Faces& F = mesh.faces();
   for (int f = 0; f < F.rows(); ++f) {
@@ -298,32 +317,35 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
   if (free_vertices) *free_vertices = static_cast<int>(region_.free_vertices.size());
   const std::lock_guard<std::mutex> lock(mutex_);
   const Plan& p = *plan_;
+  Work& work = *work_;
   const Faces& F = p.mesh.faces();
   const int nf = p.mesh.num_faces();
-  Eigen::VectorXd blend = Eigen::VectorXd::Zero(nf), ang(nf), th = Eigen::VectorXd::Constant(nf, kUnset);
+  Eigen::VectorXd &blend = work.blend, &ang = work.ang, &th = work.th, &delta = work.delta;
+  blend.setZero(nf), ang.resize(nf), th.setConstant(nf, kUnset);
   for (size_t i = 0; i < p.theta.size(); ++i) blend += w[static_cast<Eigen::Index>(i)] * p.theta[i];
   for (int f = 0; f < nf; ++f)
     if (p.part[f] >= 0) ang[f] = polar_angle(face_jacobian(X, F, f, p.base_inverse[f]));
   // The frame's rotations on each part, from the branch nearest the blend at its first face (one walk: R parts them).
   for (int r : p.ref) th[r] = blend[r] + wrap_angle(ang[r] - blend[r]);
-  p.lift(ang, p.in_rest, th);
+  p.lift(ang, p.in_rest, th, work.cost, work.heap);
   p.turn_separated_parts(blend, th, X);
   // Rotations over R: the blend plus the harmonic extension of the frame's difference (0 at inputs).
-  Eigen::VectorXd delta = th - blend;
-  p.extend(delta);
-  std::vector<Eigen::Matrix2d> G(region_.faces.size(), Eigen::Matrix2d::Zero());
+  delta = th - blend;
+  p.extend(delta, work.b, work.x);
+  std::vector<Eigen::Matrix2d>& G = work.G;
+  G.assign(region_.faces.size(), Eigen::Matrix2d::Zero());
   for (size_t k = 0; k < region_.faces.size(); ++k) {
     const int f = region_.faces[k];
     for (size_t i = 0; i < p.theta.size(); ++i)
       G[k] += w[static_cast<Eigen::Index>(i)] * rotation(blend[f] + delta[f] - p.theta[i][f]) * p.J[i][k];
   }
   if (!p.poisson) return;
-  const Positions X0 = X;
-  p.solve(region_, G, X0, X);
+  work.X0 = X;
+  p.solve(region_, G, work, X);
   // Local-global steps (docs/FOLDS.md): the least-squares fill misses incompatible targets, so each
   // face above its K bound adds kOverRelax times its clamping change to its target and the same
   // factorisation solves again; no face above its bound is a fixed point (inputs: no step at all).
-  std::vector<Eigen::Matrix2d> target = G;
+  std::vector<Eigen::Matrix2d>& target = (work.target = G);
   for (int it = 0; it < p.iterations; ++it) {
     bool changed = false;
     for (size_t k = 0; k < region_.faces.size(); ++k) {
@@ -337,14 +359,14 @@ void FoldFill::fill(const Eigen::VectorXd& w, Eigen::Ref<Positions> X, int* face
       changed = true;
     }
     if (!changed) break;
-    p.solve(region_, target, X0, X);
+    p.solve(region_, target, work, X);
   }
 }
 
-Eigen::MatrixXd FoldFill::Plan::rhs(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G,
-                                    const Positions& X) const {
+void FoldFill::Plan::rhs(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, const Positions& X,
+                         Eigen::MatrixXd& b) const {
   const Faces& F = mesh.faces();
-  Eigen::MatrixXd b = Eigen::MatrixXd::Zero(poisson->size(), 2);
+  b.setZero(poisson->size(), 2);
   for (size_t k = 0; k < region.faces.size(); ++k) {
     const int f = region.faces[k];
     const auto B = gradients(f);
@@ -357,15 +379,16 @@ Eigen::MatrixXd FoldFill::Plan::rhs(const FoldRegion& region, const std::vector<
       b.row(va) += r.transpose();
     }
   }
-  return b;
 }
 
-// X: the free vertices and the separated parts' translations (from X0) solved for the targets G
-// (per R face).
-void FoldFill::Plan::solve(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, const Positions& X0,
+// X: the free vertices and the separated parts' translations (from work.X0) solved for the targets G
+// (per R face), in work's buffers.
+void FoldFill::Plan::solve(const FoldRegion& region, const std::vector<Eigen::Matrix2d>& G, Work& work,
                            Eigen::Ref<Positions> X) const {
-  const Eigen::MatrixXd b = rhs(region, G, X0);
-  Eigen::MatrixXd z(b.rows(), 2);
+  const Positions& X0 = work.X0;
+  Eigen::MatrixXd &b = work.rhs, &z = work.z;
+  rhs(region, G, X0, b);
+  z.resize(b.rows(), 2);
   poisson->solve(b.data(), z.data(), 2);
   for (int v = 0; v < X.rows(); ++v) {
     if (var[v] < 0) continue;
