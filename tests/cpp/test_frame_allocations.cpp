@@ -96,7 +96,8 @@ TEST(FrameAllocations, AWarmFrameOfAHoledPieceAllocatesNoLargeBlock) {
     for (int k = 0; k < 3; ++k) c += p.mesh.V.row(p.mesh.F(f, k)) / 3.0;
     if ((c - Eigen::RowVector2d(0.5, 0.5)).norm() > 0.2) kept.push_back(f);
   }
-  const Faces F = p.mesh.F(kept, Eigen::all);
+  Faces F(static_cast<Eigen::Index>(kept.size()), 3);
+  for (size_t r = 0; r < kept.size(); ++r) F.row(static_cast<Eigen::Index>(r)) = p.mesh.F.row(kept[r]);
   FrameStats stats;
   EXPECT_GE(check_warm_frames(p, F, stats), 5);  // 1d9d512's parent: 2-4 blocks a frame (the closure's #V vectors)
   EXPECT_EQ(stats.hole_closure.size(), 1u);  // the holes path
