@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <utility>
 
 #include "bdinterp/interpolator.h"
 #include "test_meshes.h"
@@ -44,14 +45,14 @@ namespace bdinterp {
 namespace {
 
 #ifdef BDI_COUNTS_MALLOC
-// The jittered unit grid (61 x 41 vertices: #V doubles are 20 KB) and its image under `map`.
+// A test mesh (over 2048 vertices: #V doubles are large blocks) and its image under `map`.
 struct Pair {
   testing::TestMesh mesh;
   Positions target;
 };
 template <class Map>
-Pair grid_pair(Map map) {
-  Pair p{testing::jittered_grid(60, 40), {}};
+Pair pair_of(testing::TestMesh mesh, Map map) {
+  Pair p{std::move(mesh), {}};
   p.target = testing::apply(p.mesh.V, map);
   return p;
 }
@@ -60,8 +61,8 @@ Pair grid_pair(Map map) {
 // and fill the warm-start history, each into the same array: a frame that does not refactorise
 // allocates no large block (CHOLMOD's numeric factorisation allocates its transpose; measured: one
 // frame in ten refactorises). Returns the number of frames checked; `last`: the last frame's stats.
-int check_warm_frames(const Pair& p, const Faces& F, FrameStats& last) {
-  Interpolator interp({p.mesh.V, p.target}, F);
+int check_warm_frames(const Pair& p, FrameStats& last) {
+  Interpolator interp({p.mesh.V, p.target}, p.mesh.F);
   Positions out(p.mesh.V.rows(), 2);
   auto frame = [&](int k) { interp.blend_into(Eigen::Vector2d(0.7 - 0.01 * k, 0.3 + 0.01 * k), out); };
   for (int k = 0; k < 10; ++k) frame(k);
@@ -85,21 +86,12 @@ TEST(FrameAllocations, AWarmFrameOfAHoledPieceAllocatesNoLargeBlock) {
 #ifndef BDI_COUNTS_MALLOC
   GTEST_SKIP() << "counts glibc's malloc only";
 #else
-  const Pair p = grid_pair([](const Eigen::Vector2d& q) {
+  // An annulus of 2624 vertices bent both ways (no fold: areas change by less than 1.6x).
+  const Pair p = pair_of(testing::annulus(40, 64), [](const Eigen::Vector2d& q) {
     return Eigen::Vector2d(q.x() + 0.15 * std::sin(3.14159 * q.y()), q.y() + 0.3 * std::sin(3.14159 * q.x()));
   });
-  // The hole: the faces whose centre is within 0.2 of the grid's centre (their inner vertices left
-  // isolated, which the interpolator carries along).
-  std::vector<int> kept;
-  for (int f = 0; f < p.mesh.F.rows(); ++f) {
-    Eigen::RowVector2d c = Eigen::RowVector2d::Zero();
-    for (int k = 0; k < 3; ++k) c += p.mesh.V.row(p.mesh.F(f, k)) / 3.0;
-    if ((c - Eigen::RowVector2d(0.5, 0.5)).norm() > 0.2) kept.push_back(f);
-  }
-  Faces F(static_cast<Eigen::Index>(kept.size()), 3);
-  for (size_t r = 0; r < kept.size(); ++r) F.row(static_cast<Eigen::Index>(r)) = p.mesh.F.row(kept[r]);
   FrameStats stats;
-  EXPECT_GE(check_warm_frames(p, F, stats), 5);  // 1d9d512's parent: 2-4 blocks a frame (the closure's #V vectors)
+  EXPECT_GE(check_warm_frames(p, stats), 5);  // 1d9d512's parent: 2-4 blocks a frame (the closure's #V vectors)
   EXPECT_EQ(stats.hole_closure.size(), 1u);  // the holes path
   EXPECT_EQ(stats.fold_faces, 0);
 #endif
@@ -109,14 +101,15 @@ TEST(FrameAllocations, AWarmFrameWithAFoldRegionAllocatesNoLargeBlock) {
 #ifndef BDI_COUNTS_MALLOC
   GTEST_SKIP() << "counts glibc's malloc only";
 #else
-  // A Z fold: the strip 0.5 < x < 0.6 mirrored (its faces folded), the rest shifted to join it, so
-  // that every frame runs the fold fill over the strip's fold region (docs/FOLDS.md).
-  const Pair p = grid_pair([](const Eigen::Vector2d& q) {
+  // A Z fold of the jittered unit grid (61 x 41 vertices): the strip 0.5 < x < 0.6 mirrored (its
+  // faces folded), the rest shifted to join it, so that every frame runs the fold fill over the
+  // strip's fold region (docs/FOLDS.md).
+  const Pair p = pair_of(testing::jittered_grid(60, 40), [](const Eigen::Vector2d& q) {
     const double x = q.x() < 0.5 ? q.x() : q.x() < 0.6 ? 1.0 - q.x() : q.x() - 0.2;
     return Eigen::Vector2d(x, q.y());
   });
   FrameStats stats;
-  EXPECT_GE(check_warm_frames(p, p.mesh.F, stats), 5);  // cd6c405's parent: ~10 blocks a frame (FoldFill::fill's)
+  EXPECT_GE(check_warm_frames(p, stats), 5);  // cd6c405's parent: ~10 blocks a frame (FoldFill::fill's)
   EXPECT_GT(stats.fold_faces, 400);  // the strip's ~480 faces and more
 #endif
 }

@@ -22,35 +22,8 @@ namespace bdinterp {
 namespace {
 constexpr double kPi = 3.14159265358979323846;
 
-struct Annulus {
-  Positions V;
-  Faces F;
-};
-
-// nr rings of nt cells between radii 0.4 and 1, interior vertices jittered, random diagonals.
-Annulus annulus(int nr, int nt, unsigned seed = 3) {
-  std::mt19937 rng(seed);
-  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
-  Annulus a;
-  a.V.resize((nr + 1) * nt, 2);
-  for (int i = 0; i <= nr; ++i) {
-    for (int j = 0; j < nt; ++j) {
-      const bool inner = i > 0 && i < nr;
-      const double r = 0.4 + 0.6 * (i + (inner ? jitter(rng) : 0.0)) / nr;
-      const double t = 2 * kPi * (j + (inner ? jitter(rng) : 0.0)) / nt;
-      a.V.row(i * nt + j) << r * std::cos(t), r * std::sin(t);
-    }
-  }
-  a.F.resize(2 * nr * nt, 3);
-  int f = 0;
-  for (int i = 0; i < nr; ++i) {
-    for (int j = 0; j < nt; ++j) {
-      const int p = i * nt + j, q = i * nt + (j + 1) % nt, r = q + nt, s = p + nt;
-      testing::split_quad(a.F, f, p, q, r, s, rng() % 2 == 0);
-    }
-  }
-  return a;
-}
+using Annulus = testing::TestMesh;
+using testing::annulus;
 
 // The conformal map z -> z + 0.3 z^2 of the annulus (no fold; K up to 1.9 between the two).
 Positions bent(const Annulus& a) {

@@ -53,6 +53,33 @@ inline TestMesh jittered_grid(int nx, int ny, double w = 1.0, double h = 1.0, un
   return m;
 }
 
+// An annulus: nr rings of nt cells between radii 0.4 and 1, interior vertices jittered, random
+// diagonals; counter-clockwise faces.
+inline TestMesh annulus(int nr, int nt, unsigned seed = 3) {
+  const double pi = 3.14159265358979323846;
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> jitter(-0.2, 0.2);
+  TestMesh a;
+  a.V.resize((nr + 1) * nt, 2);
+  for (int i = 0; i <= nr; ++i) {
+    for (int j = 0; j < nt; ++j) {
+      const bool inner = i > 0 && i < nr;
+      const double r = 0.4 + 0.6 * (i + (inner ? jitter(rng) : 0.0)) / nr;
+      const double t = 2 * pi * (j + (inner ? jitter(rng) : 0.0)) / nt;
+      a.V.row(i * nt + j) << r * std::cos(t), r * std::sin(t);
+    }
+  }
+  a.F.resize(2 * nr * nt, 3);
+  int f = 0;
+  for (int i = 0; i < nr; ++i) {
+    for (int j = 0; j < nt; ++j) {
+      const int p = i * nt + j, q = i * nt + (j + 1) % nt, r = q + nt, s = p + nt;
+      split_quad(a.F, f, p, q, r, s, rng() % 2 == 0);
+    }
+  }
+  return a;
+}
+
 // Applies a map R^2 -> R^2 to every vertex.
 inline Positions apply(const Positions& V, const std::function<Eigen::Vector2d(Eigen::Vector2d)>& map) {
   Positions out(V.rows(), 2);
