@@ -180,6 +180,7 @@ SparseCholesky& Flattener::factored_hessian(const Eigen::VectorXd& l2, const Eig
     check_sizes(plan_->mesh, l2, u);
     s.evaluate(l2, u, false, true, s.trial);
     s.hessian_at_cur = false;
+    s.hessian_drift = HUGE_VAL;  // assembled elsewhere
     s.factorize_with_shift();
     s.policy.refactorised();
     s.factor_reusable = true;
@@ -195,6 +196,7 @@ void Flattener::assemble_hessian(const Eigen::VectorXd& l2, const Eigen::VectorX
   check_sizes(plan_->mesh, l2, u);
   s.evaluate(l2, u, false, true, s.trial);
   s.hessian_at_cur = false;
+  s.hessian_drift = HUGE_VAL;
   std::copy_n(s.hessian.data(), plan_->nnz(), s.factor->values());
 }
 

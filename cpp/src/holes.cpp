@@ -21,12 +21,16 @@ namespace {
 // residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
-// First-order closure steps on one sensitivity S before a convex solve refreshes it: S drifts along a
-// slider, and frames with it from cold ones (docs/HOLES.md, tests/cpp/test_holes.cpp).
+// Free first-order steps on one sensitivity S before a solve refreshes it (S drifts; docs/HOLES.md).
 constexpr int kLinearSteps = 8;
 // The largest move |S delta|_inf of a first-order step: the angle residual it leaves is up to ~10 %
 // of the move (S's accuracy, docs/HOLES.md), and exp(move) = 1 + move in doubles.
 constexpr double kLinearMove = 1e-10;
+// The largest move of a step by Flattener::follow (error second order in it, ~1e-18); the relative
+// accuracy of the response's solves and the central differences' step for the Jacobian.
+constexpr double kFollowMove = 1e-9;
+constexpr double kResponseAccuracy = 1e-5;
+constexpr double kProbe = 1e-7;
 
 // The outer loop of `piece`: the index of the boundary loop enclosing the largest area in `base`.
 int outer_loop(const Mesh& piece, const Positions& base) {
@@ -175,7 +179,7 @@ void HoleSolver::set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u) {
   dipole_ = ab;
 }
 
-Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u,
+Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u,
                                             const Eigen::VectorXd& period, const FlattenOptions& options,
                                             FlattenReport& report) {
   const int m = 2 * num_holes();
@@ -194,21 +198,62 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, const Eig
     sensitivity_.col(j) = (trial - u) / kDipoleStep;
     set_dipoles(ab, trial);  // dipole_ back to ab
   }
+  convex_solve(l2, u, options, report);  // the Flattener back at u (solved: one evaluation)
   return J;
+}
+
+void HoleSolver::dipole_offsets(const Eigen::VectorXd& delta, Eigen::VectorXd& offset) const {
+  if (offset.size() != mesh_->num_vertices()) offset.setZero(mesh_->num_vertices());
+  for (int k = 0; k < num_holes(); ++k)
+    for (size_t i = 0; i < loops_[k].size(); ++i)
+      offset[loops_[k][i]] = loop_xy_[k](i, 0) * delta[2 * k] + loop_xy_[k](i, 1) * delta[2 * k + 1];
+}
+
+void HoleSolver::move_lengths(const Eigen::VectorXd& flat, double h) {
+  // exp(h move_i) exp(h move_j) = 1 + h (move_i + move_j) to double precision for moves this small.
+  const Edges& E = mesh_->edges();
+  trial_flat_.resize(E.rows());
+  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + h * (move_[E(e, 0)] + move_[E(e, 1)]));
+}
+
+bool HoleSolver::linear_jacobian() {
+  const int m = 2 * num_holes();
+  sensitivity_.resize(mesh_->num_vertices(), m);
+  sensitivity_age_ = 0;
+  Eigen::MatrixXd J(m, m);
+  for (int j = 0; j < m; ++j) {  // central differences of the periods along the response
+    dipole_offsets(Eigen::VectorXd::Unit(m, j), offset_);
+    if (!flattener_.response(offset_, kResponseAccuracy, move_)) return false;
+    sensitivity_.col(j) = move_;
+    move_lengths(flattener_.flat_squared_lengths(), kProbe);
+    J.col(j) = periods(trial_flat_);
+    move_lengths(flattener_.flat_squared_lengths(), -kProbe);
+    J.col(j) = (J.col(j) - periods(trial_flat_)) / (2 * kProbe);
+  }
+  jacobian_ = J;
+  return true;
+}
+
+void HoleSolver::refresh_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Eigen::VectorXd& period,
+                                  const FlattenOptions& options, FlattenReport& report) {
+  if (!options.reuse_factorization || !linear_jacobian()) jacobian_ = dipole_jacobian(l2, u, period, options, report);
+}
+
+bool HoleSolver::follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options) {
+  dipole_offsets(delta, offset_);
+  if (!flattener_.follow(offset_, u, kFollowMove, options)) return false;
+  dipole_ += delta;
+  return true;
 }
 
 bool HoleSolver::linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                              Eigen::VectorXd& next) {
-  // u moves by the sensitivity times the dipoles' step: what the convex solve would do, up to the
-  // step squared and S's error times the move (far below the tolerance for moves ~1e-11), so a
-  // steady frame needs no second convex solve. Kept only if it closes the periods.
+  // u moves by S delta, free: right up to the step squared and S's error (a few %) times the move,
+  // so only for small moves, and kept only if it closes the periods.
   if (sensitivity_age_ >= kLinearSteps) return false;
   move_.noalias() = sensitivity_ * delta;
   if (!(move_.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
-  // The flat lengths scale by exp(move_i) exp(move_j) = 1 + move_i + move_j to double precision.
-  const Edges& E = mesh_->edges();
-  trial_flat_.resize(E.rows());
-  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + (move_[E(e, 0)] + move_[E(e, 1)]));
+  move_lengths(flat, 1.0);
   next = periods(trial_flat_);
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
   ++sensitivity_age_;
@@ -223,24 +268,25 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
   const int m = 2 * num_holes();
   Eigen::VectorXd period = solved_periods(), next;
   // The Jacobian and the sensitivity du/d dipoles are kept across frames (they change slowly along
-  // a slider) and updated by Broyden's rule; recomputed by finite differences when missing or when
-  // a step fails to halve the periods. Closed to tolerance * refinement like the flattening; the
+  // a slider) and updated by Broyden's rule; recomputed when missing or when a step fails to halve
+  // the periods. A step is taken by the sensitivity if that closes the periods, else by follow()
+  // when small, else by a convex solve. Closed to tolerance * refinement like the flattening; the
   // loop ends at the accuracy the periods allow (a fresh Jacobian's step that does not halve them).
   bool fresh = false;
-  const Eigen::VectorXd* flat = &flattener_.flat_squared_lengths();
   const double aim = options.tolerance * options.refinement;
   for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
-    if (jacobian_.rows() != m) jacobian_ = dipole_jacobian(l2, u, period, options, report), fresh = true;
+    if (jacobian_.rows() != m) refresh_jacobian(l2, u, period, options, report), fresh = true;
     const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
-    if (linear_step(*flat, delta, aim, u, next)) {
+    if (linear_step(flattener_.flat_squared_lengths(), delta, aim, u, next)) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
       return flat_;
     }
     before_ = u;
-    set_dipoles(dipole_ + delta, u);
-    convex_solve(l2, u, options, report);
+    if (!follow(delta, u, options)) {
+      set_dipoles(dipole_ + delta, u);
+      convex_solve(l2, u, options, report);
+    }
     next = solved_periods();
-    flat = &flattener_.flat_squared_lengths();
     const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
     if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
     if (halved) {
@@ -251,14 +297,12 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
       sensitivity_age_ = 0;
       fresh = false;
     } else {
-      jacobian_ = dipole_jacobian(l2, u, next, options, report);
+      refresh_jacobian(l2, u, next, options, report);
       fresh = true;
-      flat_ = scale_lengths(*mesh_, l2, u);
-      flat = &flat_;
     }
     period = next;
   }
-  return *flat;
+  return flattener_.flat_squared_lengths();
 }
 
 FlattenReport HoleSolver::flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options) {

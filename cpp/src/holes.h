@@ -11,8 +11,9 @@
 // hole boundary may miss its start. Two more unknowns per hole close it: u along hole k is
 // c_k + a_k cos s + b_k sin s (s: the arc-length angle along the loop in the blended metric). This
 // class is that outer step: for fixed dipoles (a, b) the Flattener solves for the c_k (the dipole
-// terms are its fixed offsets), and Newton on the dipoles (finite-difference Jacobian, Broyden
-// updates, warm-started convex solves) drives every period to zero. At an input's own metric the
+// terms are its fixed offsets), and Newton on the dipoles (the Jacobian from the Flattener's linear
+// response, Broyden updates; small steps to first order, large ones by convex solves) drives every
+// period to zero. At an input's own metric the
 // periods vanish with zero dipoles: no extra solve, inputs exact. The layout is the disks' Layout
 // with the holes' vertices free (its own uniform Laplacian); the remaining period is reported per
 // hole, relative to the loop's length.
@@ -95,9 +96,24 @@ class HoleSolver {
   Eigen::VectorXd fit_dipoles(Eigen::VectorXd& u) const;
   // Sets the dipoles (a_k, b_k at 2k, 2k + 1) to ab, keeping each hole's unknown, in u and dipole_.
   void set_dipoles(const Eigen::VectorXd& ab, Eigen::VectorXd& u);
-  // d periods / d dipoles at u (whose periods are `period`) by finite differences.
-  Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, const Eigen::VectorXd& period,
+  // d periods / d dipoles at u (whose periods are `period`) by finite differences, and the
+  // sensitivity; the Flattener is left at u.
+  Eigen::MatrixXd dipole_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report);
+  // trial_flat_ = flat (#E) times 1 + h (move_i + move_j): the lengths moved by h move_ to first order.
+  void move_lengths(const Eigen::VectorXd& flat, double h);
+  // offset (#V): the dipoles' change delta along each hole (loop_xy_), 0 elsewhere.
+  void dipole_offsets(const Eigen::VectorXd& delta, Eigen::VectorXd& offset) const;
+  // jacobian_ and sensitivity_ from the Flattener's first-order response at its solution (a linear
+  // solve per dipole, no convex solve); false if the Flattener cannot give it.
+  bool linear_jacobian();
+  // jacobian_ and sensitivity_ anew at the solved u (periods `period`): linear_jacobian, else by
+  // finite differences.
+  void refresh_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Eigen::VectorXd& period,
+                        const FlattenOptions& options, FlattenReport& report);
+  // The dipoles' step delta from the solved u by Flattener::follow (one linear solve, no convex
+  // solve); false, nothing changed, if the Flattener cannot take it (e.g. a move too large).
+  bool follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options);
   // The dipoles' step delta taken to first order from u, whose flat squared lengths are flat
   // (u += sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat
   // lengths in flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
@@ -126,6 +142,7 @@ class HoleSolver {
   // #V workspaces of the closure, kept: a frame allocates nothing large (freed large blocks cost
   // page faults and, under jemalloc as in Blender, madvise and TLB flushes on every core).
   Eigen::VectorXd move_, before_;
+  Eigen::VectorXd offset_;  // #V: follow()'s and linear_jacobian()'s dipole offsets, 0 off the holes
   const Eigen::VectorXd* flat_result_ = nullptr;  // the last flatten()'s: the Flattener's or flat_
   // The plans are shared by copies (one per thread); the workspaces and factors are each copy's own.
   std::shared_ptr<const FlattenPlan> plan_;

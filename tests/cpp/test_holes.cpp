@@ -219,11 +219,10 @@ TEST(Holes, TheLayoutIsTheSharedOneAroundTheOuterLoop) {
   EXPECT_THROW(LayoutPlan(mesh, 2), InvalidInput);
 }
 
-// On a slider the periods' Newton step is taken to first order (the sensitivity du/d dipoles kept
-// from the finite-difference Jacobian, Broyden-updated, refreshed by a convex solve every
-// kLinearSteps + 1 frames, and only for moves |S delta| <= kLinearMove): most steady warm frames
-// are one convex solve of one Newton step, not two, and land where a fresh solver does, also 50
-// frames on, where the annulus bends further and the dipoles' steps grow.
+// On a slider the periods' Newton step is taken to first order (by the sensitivity S when that
+// closes them, else by Flattener::follow: one linear solve at the solution, no convex solve): most
+// steady warm frames are one convex solve of one Newton step, not two, and land where a fresh
+// solver does, also 50 frames on, where the annulus bends further and the dipoles' steps grow.
 TEST(Holes, SteadyWarmFramesAreMostlyOneConvexSolveAndMatchColdOnes) {
   const Annulus a = annulus(8, 48);
   const Mesh mesh(a.F, static_cast<int>(a.V.rows()));
@@ -247,11 +246,70 @@ TEST(Holes, SteadyWarmFramesAreMostlyOneConvexSolveAndMatchColdOnes) {
     Eigen::VectorXd uc;
     Positions Xc;
     cold.solve(l2, uc, Xc);
-    // Measured: <= 2.7e-13 over the first 10 frames, 6.5e-13 over all 50 (moves not limited by
-    // kLinearMove: 1.6e-12; without the refresh of S: 3e-11).
+    // Measured: <= 2.7e-13 over the first 10 frames, 6.5e-13 over all 50 (S's steps not limited
+    // to moves of 1e-10: 1.6e-12; without refreshing S: 3e-11).
     EXPECT_LT((u - uc).cwiseAbs().maxCoeff(), 1e-12) << "t = " << t;
   }
-  EXPECT_GE(one_solve, 8);  // of the first 10 (measured: 9; main's closure: 0, every frame two solves)
+  EXPECT_GE(one_solve, 8);  // of the first 10 (measured: 10; the first closure's: 0, every frame two solves)
+}
+
+// Along hole 0 of the annulus: eps cos(2 pi i / n) at its i-th vertex, 0 elsewhere.
+Eigen::VectorXd hole_wave(HoleSolver& solver, int nv, double eps) {
+  Eigen::VectorXd o = Eigen::VectorXd::Zero(nv);
+  const std::vector<int>& hole = solver.hole(0);
+  for (size_t i = 0; i < hole.size(); ++i) o[hole[i]] = eps * std::cos(2 * kPi * i / hole.size());
+  return o;
+}
+
+// The annulus halfway along its bend, and two solvers over it: `solver`'s Flattener solved at u.
+struct HalfBent {
+  Annulus a = annulus(8, 48);
+  int nv = static_cast<int>(a.V.rows());
+  Mesh mesh{a.F, nv};
+  Eigen::VectorXd l2 = 0.5 * (squared_edge_lengths(mesh, a.V) + squared_edge_lengths(mesh, bent(a)));
+  HoleSolver solver{mesh, a.V}, other{mesh, a.V};
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(nv);
+  HalfBent() { solver.flattener().solve(l2, u); }
+};
+
+// Flattener::follow takes a solution along a small change of the fixed offsets (a hole's profile)
+// to where a convex solve with the changed offsets lands, without evaluating the angles: the
+// defects evaluated anew at its u are below the aim, and its flat lengths are u's. A larger move
+// than allowed is refused and leaves u as it was.
+TEST(Holes, FollowingAnOffsetChangeLandsWhereAConvexSolveDoes) {
+  HalfBent b;
+  Flattener& f = b.solver.flattener();
+  const FlattenOptions options;
+  Eigen::VectorXd& u = b.u;
+  const Eigen::VectorXd offset = hole_wave(b.solver, b.nv, 3e-10), before = u;
+  EXPECT_FALSE(f.follow(offset, u, 1e-10, options));  // the move is ~3e-10
+  EXPECT_EQ((u - before).cwiseAbs().maxCoeff(), 0.0);
+  ASSERT_TRUE(f.follow(offset, u, 1e-9, options));
+  Eigen::VectorXd v = before + offset;
+  b.other.flattener().solve(b.l2, v, options);
+  // Measured: 1.0e-15 apart (the move: 3e-10); defects 2.7e-15 against the aim 1e-13.
+  EXPECT_LT((u - v).cwiseAbs().maxCoeff(), 1e-13);
+  EXPECT_LT((u - before).cwiseAbs().maxCoeff(), 1e-9);
+  EXPECT_GT((u - before).cwiseAbs().maxCoeff(), 1e-10);
+  EXPECT_LT(f.residual(b.l2, u), options.tolerance * options.refinement);
+  const Eigen::VectorXd flat = scale_lengths(b.mesh, b.l2, u);
+  EXPECT_LT((f.flat_squared_lengths() - flat).cwiseQuotient(flat).cwiseAbs().maxCoeff(), 1e-15);
+}
+
+// Flattener::response is the derivative of the solution with respect to the fixed offsets: the
+// finite difference of two convex solves (step 1e-6) agrees with it.
+TEST(Holes, TheResponseToAnOffsetIsTheDerivativeOfTheSolution) {
+  HalfBent b;
+  Eigen::VectorXd move;
+  const Eigen::VectorXd unit = hole_wave(b.solver, b.nv, 1.0);
+  ASSERT_TRUE(b.solver.flattener().response(unit, 1e-10, move));
+  const double h = 1e-6;
+  Eigen::VectorXd v = b.u + h * unit;
+  b.other.flattener().solve(b.l2, v);
+  const Eigen::VectorXd difference = (v - b.u) / h;
+  // Measured: 8.8e-9 of the largest entry (1, on the hole).
+  EXPECT_LT((move - difference).cwiseAbs().maxCoeff(), 1e-5 * difference.cwiseAbs().maxCoeff());
+  EXPECT_GT((move - unit).cwiseAbs().maxCoeff(), 0.5);  // the unknowns respond (measured: 0.81)
 }
 
 }  // namespace

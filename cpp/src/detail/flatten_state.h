@@ -2,6 +2,7 @@
 // driver (flatten_newton.cpp).
 #pragma once
 
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -43,12 +44,14 @@ struct Flattener::State {
   detail::Evaluation cur, trial;  // cur: at the iterate u of solve(); trial: a candidate
   std::vector<double> hessian;    // nnz + 1: the Hessian values PCG and the factorisation use
   bool hessian_at_cur = false;    // `hessian` is the Hessian at cur
+  double hessian_drift = HUGE_VAL;  // max |u - u where `hessian` was assembled|, summed over cur's moves
   std::optional<SparseCholesky> factor;
   double shift = 0;               // diagonal shift of the factorisation in `factor`
   bool factor_reusable = false;   // `factor` holds a factorisation usable for chord steps
   detail::RefactorPolicy policy;
   detail::PcgScratch pcg;
   Eigen::VectorXd step, rhs, trial_u;
+  Eigen::VectorXd shifted, move;  // follow(): the defects after the offsets (#unknowns + 1), the move (#V)
 };
 
 }  // namespace bdinterp
