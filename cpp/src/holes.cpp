@@ -1,6 +1,6 @@
-// The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener, the
-// closure of their translation periods by Newton on the dipoles around the convex solves, the
-// periods themselves (intrinsic) and the layout (the shared Layout).
+// The outer step of a piece with holes (holes.h): the holes' unknowns for the Flattener and the
+// closure of their translation periods by Newton on the dipoles around the convex solves (the
+// periods themselves and the layout: holes_periods.cpp).
 #include "holes.h"
 
 #include <Eigen/Cholesky>
@@ -8,11 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 
 #include "geometry.h"
-#include "triangle.h"
-#include "detail/turns.h"
 
 namespace bdinterp {
 namespace {
@@ -101,14 +98,15 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
   const Faces& F = piece.faces();
   for (int f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
+      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c}), ++loop_corner_count_;
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
 }
 
 HoleSolver::HoleSolver(const HoleSolver& o)
     : mesh_(o.mesh_), layout_plan_(o.layout_plan_), loops_(o.loops_), loop_edges_(o.loop_edges_),
-      loop_corners_(o.loop_corners_), loop_xy_(o.loop_xy_), dipole_(o.dipole_), plan_(o.plan_),
+      loop_corners_(o.loop_corners_), loop_corner_count_(o.loop_corner_count_), loop_xy_(o.loop_xy_),
+      dipole_(o.dipole_), plan_(o.plan_),
       flattener_(o.plan_), layout_(o.layout_plan_) {}
 
 HoleSolver::~HoleSolver() = default;
@@ -329,72 +327,6 @@ HolesReport HoleSolver::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, Pos
   rep.flatten = flatten(l2, u, options);
   rep.flatness = layout(flat_squared_lengths(), X, rep.closure);
   return rep;
-}
-
-Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
-  const Faces& FE = mesh_->face_edges();
-  Eigen::VectorXd out(2 * num_holes());
-  std::vector<double> re, im;  // per loop vertex: exp(i angle / 2) up to a positive factor
-  for (int k = 0; k < num_holes(); ++k) {
-    const size_t n = loops_[k].size();
-    re.assign(n, 1.0);
-    im.assign(n, 0.0);
-    double l[3], x[3], perimeter = 0, q = 0;
-    int face = -1;
-    for (const auto& [i, f, c] : loop_corners_[k]) {
-      if (f != face) {  // a face's corners at the loop are consecutive: its shape once
-        face = f;
-        for (int j = 0; j < 3; ++j) l[j] = std::sqrt(l2[FE(f, j)]);
-        q = excesses(l, x, &perimeter);
-      }
-      // tan(angle / 2) = q / (perimeter x[c]); a broken face's (pi, 0, 0): pi / 2 at its longest side.
-      const bool up = !(q > 0) && c == longest_side(l);
-      const double a = q > 0 ? perimeter * x[c] : (up ? 0.0 : 1.0), b = q > 0 ? q : (up ? 1.0 : 0.0);
-      const double r = re[i] * a - im[i] * b;
-      im[i] = re[i] * b + im[i] * a;
-      re[i] = r;
-      detail::keep_in_range(re[i], im[i]);
-    }
-    // Edge i runs from loop[i] to loop[i + 1]; the direction turns by pi - angle at loop[i + 1]:
-    // times -conj(exp(i angle)), the half-angle product squared and normalised (no trigonometry).
-    // (Walking the other way conjugates every period: the closure does not see the difference.)
-    std::complex<double> gap = 0;
-    double length = 0, dx = 1, dy = 0;
-    for (size_t i = 0; i < n; ++i) {
-      const double li = std::sqrt(l2[loop_edges_[k][i].first]);
-      gap += std::complex<double>(li * dx, li * dy);
-      length += li;
-      const size_t j = (i + 1) % n;
-      const double norm = re[j] * re[j] + im[j] * im[j];
-      const double tx = (im[j] * im[j] - re[j] * re[j]) / norm, ty = 2 * re[j] * im[j] / norm;
-      const double nx = dx * tx - dy * ty;
-      dy = dx * ty + dy * tx;
-      dx = nx;
-    }
-    out[2 * k] = gap.real() / length;
-    out[2 * k + 1] = gap.imag() / length;
-  }
-  return out;
-}
-
-double HoleSolver::layout(const Eigen::VectorXd& l2, Positions& X, std::vector<double>& closure) {
-  double flatness = 0;
-  layout_.embed(l2, X, &flatness);
-  // The gap of each hole's loop developed by the Layout's faces (each hole edge has one face): the
-  // period of periods() up to the flattening's residual.
-  closure.resize(num_holes());
-  for (int k = 0; k < num_holes(); ++k) {
-    std::complex<double> gap = 0;
-    double length = 0;
-    for (size_t i = 0; i < loops_[k].size(); ++i) {
-      double v[2];
-      layout_.vector_of(layout_plan_->half_edge(loop_edges_[k][i].first, loops_[k][i]), v);
-      gap += std::complex<double>(v[0], v[1]);
-      length += std::sqrt(v[0] * v[0] + v[1] * v[1]);
-    }
-    closure[k] = std::abs(gap) / length;
-  }
-  return flatness;
 }
 
 }  // namespace bdinterp

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <complex>
 #include <memory>
 #include <utility>
 #include <vector>
@@ -87,6 +88,8 @@ class HoleSolver {
   // The convex solve for the unknowns at fixed dipoles (the Flattener), its work added to report.
   void convex_solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,
                     FlattenReport& report);
+  // Hole k's period of flat lengths l2 (periods()).
+  std::complex<double> hole_period(int k, const Eigen::VectorXd& l2) const;
   // The periods of the last convex solve's flat lengths.
   Eigen::VectorXd solved_periods() const { return periods(flattener_.flat_squared_lengths()); }
   // The dipoles' shape on each hole (loop_xy_) from the blended lengths l2.
@@ -132,6 +135,7 @@ class HoleSolver {
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
   // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
   std::vector<std::vector<std::array<int, 3>>> loop_corners_;
+  long loop_corner_count_ = 0;  // their number, all loops
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)

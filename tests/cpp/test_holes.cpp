@@ -15,6 +15,7 @@
 #include "holes.h"
 #include "layout.h"
 #include "metric_blend.h"
+#include "parallel.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 
@@ -69,13 +70,13 @@ TEST(Holes, GradientIsTheDerivativeOfTheEnergyInTheReducedUnknowns) {
   }
 }
 
-// The unknowns of a one-hole solver's Flattener, written out: 2 pi inside, (n + 2) pi on the hole.
+// The unknowns of a solver's Flattener, written out: 2 pi inside, (n + 2) pi on a hole of n vertices.
 FlattenUnknowns unknowns_of(const HoleSolver& solver, const Mesh& mesh) {
   FlattenUnknowns unknowns;
   for (int v = 0; v < mesh.num_vertices(); ++v) unknowns.of_vertex.push_back(solver.unknown(v));
-  const int hole_unknown = solver.unknown(solver.hole(0)[0]);
-  unknowns.target.assign(hole_unknown + 1, 2 * kPi);
-  unknowns.target[hole_unknown] = (static_cast<double>(solver.hole(0).size()) + 2) * kPi;
+  unknowns.target.assign(*std::max_element(unknowns.of_vertex.begin(), unknowns.of_vertex.end()) + 1, 2 * kPi);
+  for (int k = 0; k < solver.num_holes(); ++k)
+    unknowns.target[solver.unknown(solver.hole(k)[0])] = (static_cast<double>(solver.hole(k).size()) + 2) * kPi;
   return unknowns;
 }
 
@@ -217,6 +218,57 @@ TEST(Holes, TheLayoutIsTheSharedOneAroundTheOuterLoop) {
   Layout around_hole(std::make_shared<const LayoutPlan>(mesh, 1 - outer));
   EXPECT_LT(testing::rigid_error(around_hole.embed(l2), mirrored), 1e-12);
   EXPECT_THROW(LayoutPlan(mesh, 2), InvalidInput);
+}
+
+// A grid with two square holes (large enough that the periods' loop runs on the pool when it may):
+// each hole's period, computed one hole a chunk, is that hole's laid-out gap, and the same bit for
+// bit with one thread.
+TEST(Holes, EachHolesPeriodIsItsOwnGapOnOneThreadAndOnThePool) {
+  const testing::TestMesh g = testing::jittered_grid(80, 40, 2.0, 1.0);
+  std::vector<int> keep, index(g.V.rows(), -1);
+  for (int f = 0; f < g.F.rows(); ++f) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k) c += g.V.row(g.F(f, k)).transpose() / 3;
+    const bool hole = c.y() > 0.2 && c.y() < 0.8 && ((c.x() > 0.2 && c.x() < 0.8) || (c.x() > 1.2 && c.x() < 1.8));
+    if (!hole) keep.push_back(f);
+  }
+  Faces F(keep.size(), 3);
+  Positions V(0, 2);
+  for (size_t f = 0; f < keep.size(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      int& i = index[g.F(keep[f], k)];
+      if (i < 0) i = static_cast<int>(V.rows()), V.conservativeResize(V.rows() + 1, 2), V.row(i) = g.V.row(g.F(keep[f], k));
+      F(f, k) = i;
+    }
+  const Mesh mesh(F, static_cast<int>(V.rows()));
+  const Positions T = testing::apply(V, [](Eigen::Vector2d p) {
+    const std::complex<double> z(p.x(), p.y()), w = z + 0.2 * z * z;
+    return Eigen::Vector2d(w.real(), w.imag());
+  });
+  HoleSolver solver(mesh, V);
+  ASSERT_EQ(solver.num_holes(), 2);
+  Flattener fl(std::make_shared<const FlattenPlan>(mesh, unknowns_of(solver, mesh)));
+  const Eigen::VectorXd l2 = 0.5 * (squared_edge_lengths(mesh, V) + squared_edge_lengths(mesh, T));
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(mesh.num_vertices());
+  ASSERT_LE(fl.solve(l2, u).residual, 1e-10);
+  const Eigen::VectorXd flat = scale_lengths(mesh, l2, u);
+  Eigen::VectorXd pooled, serial;
+  {
+    const parallel::ThreadLimit all(0);
+    pooled = solver.periods(flat);
+  }
+  {
+    const parallel::ThreadLimit one(1);
+    serial = solver.periods(flat);
+  }
+  EXPECT_EQ(pooled, serial);
+  Positions X;
+  std::vector<double> closure;
+  solver.layout(flat, X, closure);
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_GT(closure[k], 1e-4) << "hole " << k;
+    EXPECT_NEAR(std::hypot(pooled[2 * k], pooled[2 * k + 1]), closure[k], 1e-9) << "hole " << k;
+  }
 }
 
 // On a slider the periods' Newton step is taken to first order (by the sensitivity S when that
