@@ -136,6 +136,7 @@ class HoleSolver {
   // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
   std::vector<std::vector<std::array<int, 3>>> loop_corners_;
   long loop_corner_count_ = 0;  // their number, all loops
+  mutable std::vector<std::vector<double>> half_turns_;  // per inner loop: hole_period's 2 n doubles
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve
   Eigen::MatrixXd jacobian_;              // d periods / d dipoles, kept across frames (Broyden)

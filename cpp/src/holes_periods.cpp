@@ -30,7 +30,13 @@ Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
 std::complex<double> HoleSolver::hole_period(int k, const Eigen::VectorXd& l2) const {
   const Faces& FE = mesh_->face_edges();
   const size_t n = loops_[k].size();
-  std::vector<double> re(n, 1.0), im(n, 0.0);  // per loop vertex: exp(i angle / 2) up to a positive factor
+  // Per loop vertex: exp(i angle / 2) up to a positive factor, in the hole's own workspace (allocated
+  // with the solver: a chunk on the pool must not throw).
+  std::vector<double>& turns = half_turns_[k];
+  std::fill_n(turns.begin(), n, 1.0);
+  std::fill_n(turns.begin() + n, n, 0.0);
+  double* re = turns.data();
+  double* im = re + n;
   double l[3], x[3], perimeter = 0, q = 0;
   int face = -1;
   for (const auto& [i, f, c] : loop_corners_[k]) {
