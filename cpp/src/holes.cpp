@@ -98,7 +98,7 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
   const Faces& F = piece.faces();
   for (int f = 0; f < F.rows(); ++f)
     for (int c = 0; c < 3; ++c)
-      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c}), ++loop_corner_count_;
+      if (owner[F(f, c)] >= 0) loop_corners_[owner[F(f, c)]].push_back({position[F(f, c)], f, c});
   for (const std::vector<int>& loop : loops_) half_turns_.emplace_back(2 * loop.size());
   loop_xy_.resize(loops_.size());
   dipole_.setZero(2 * num_holes());
@@ -106,7 +106,7 @@ HoleSolver::HoleSolver(const Mesh& piece, const Positions& base)
 
 HoleSolver::HoleSolver(const HoleSolver& o)
     : mesh_(o.mesh_), layout_plan_(o.layout_plan_), loops_(o.loops_), loop_edges_(o.loop_edges_),
-      loop_corners_(o.loop_corners_), loop_corner_count_(o.loop_corner_count_), half_turns_(o.half_turns_),
+      loop_corners_(o.loop_corners_), half_turns_(o.half_turns_),
       loop_xy_(o.loop_xy_), dipole_(o.dipole_), plan_(o.plan_), flattener_(o.plan_), layout_(o.layout_plan_) {}
 
 HoleSolver::~HoleSolver() = default;

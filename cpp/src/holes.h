@@ -135,7 +135,6 @@ class HoleSolver {
   std::vector<std::vector<std::pair<int, double>>> loop_edges_;  // per inner loop: (edge, +-1)
   // Per inner loop: (position in the loop, face, corner) of every face corner at its vertices.
   std::vector<std::vector<std::array<int, 3>>> loop_corners_;
-  long loop_corner_count_ = 0;  // their number, all loops
   mutable std::vector<std::vector<double>> half_turns_;  // per inner loop: hole_period's 2 n doubles
   std::vector<Eigen::MatrixX2d> loop_xy_;  // per inner loop and vertex: the dipoles' shape (cos, sin)
   Eigen::VectorXd dipole_;                // the dipoles in the u of the last solve

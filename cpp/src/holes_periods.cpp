@@ -14,16 +14,15 @@ namespace bdinterp {
 
 Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
   Eigen::VectorXd out(2 * num_holes());
-  // One hole a chunk: the holes' walks are serial in the closure, the faces' loops around them are not.
-  const int chunks = std::min(num_holes(), parallel::loop_threads(loop_corner_count_));
-  parallel::run(chunks, [&](int chunk) {
-    const auto [first, last] = parallel::share(num_holes(), chunk, chunks);
-    for (long k = first; k < last; ++k) {
-      const std::complex<double> p = hole_period(static_cast<int>(k), l2);
-      out[2 * k] = p.real();
-      out[2 * k + 1] = p.imag();
-    }
-  }, loop_corner_count_);
+  // One hole a chunk (each walk is serial), sized by the corners walked.
+  long corners = 0;
+  for (const auto& loop : loop_corners_) corners += static_cast<long>(loop.size());
+  const int chunks = std::min(num_holes(), parallel::loop_threads(corners));
+  parallel::for_each(chunks, num_holes(), [&](int, long k) {
+    const std::complex<double> p = hole_period(static_cast<int>(k), l2);
+    out[2 * k] = p.real();
+    out[2 * k + 1] = p.imag();
+  }, corners);
   return out;
 }
 

@@ -122,16 +122,18 @@ void run(int chunks, Body&& body, long items = 0) {
   detail::run(chunks, [](void* c, int k) { (*static_cast<Body*>(c))(k); }, &body, items);
 }
 
-// for (i in [0, n)) body(chunk, i), split into `chunks` contiguous shares (see share()).
+// for (i in [0, n)) body(chunk, i), split into `chunks` contiguous shares (see share()). items: the
+// loop's size for run(), n unless given (a loop over a few big iterations, e.g. one per hole, passes
+// the work inside them).
 template <class Body>
-void for_each(int chunks, long n, Body&& body) {
+void for_each(int chunks, long n, Body&& body, long items = -1) {
   run(
       chunks,
       [&](int k) {
         const auto [first, last] = share(n, k, chunks);
         for (long i = first; i < last; ++i) body(k, i);
       },
-      n);
+      items < 0 ? n : items);
 }
 
 // While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one

@@ -225,22 +225,18 @@ TEST(Holes, TheLayoutIsTheSharedOneAroundTheOuterLoop) {
 // bit with one thread.
 TEST(Holes, EachHolesPeriodIsItsOwnGapOnOneThreadAndOnThePool) {
   const testing::TestMesh g = testing::jittered_grid(80, 40, 2.0, 1.0);
-  std::vector<int> keep, index(g.V.rows(), -1);
+  std::vector<int> keep;
   for (int f = 0; f < g.F.rows(); ++f) {
     Eigen::Vector2d c = Eigen::Vector2d::Zero();
     for (int k = 0; k < 3; ++k) c += g.V.row(g.F(f, k)).transpose() / 3;
     const bool hole = c.y() > 0.2 && c.y() < 0.8 && ((c.x() > 0.2 && c.x() < 0.8) || (c.x() > 1.2 && c.x() < 1.8));
     if (!hole) keep.push_back(f);
   }
-  Faces F(keep.size(), 3);
-  Positions V(0, 2);
-  for (size_t f = 0; f < keep.size(); ++f)
-    for (int k = 0; k < 3; ++k) {
-      int& i = index[g.F(keep[f], k)];
-      if (i < 0) i = static_cast<int>(V.rows()), V.conservativeResize(V.rows() + 1, 2), V.row(i) = g.V.row(g.F(keep[f], k));
-      F(f, k) = i;
-    }
-  const Mesh mesh(F, static_cast<int>(V.rows()));
+  const Faces kept = testing::rows_of(g.F, keep);
+  const std::vector<Piece> pieces = split_into_pieces(Mesh(kept, static_cast<int>(g.V.rows())));
+  ASSERT_EQ(pieces.size(), 1u);
+  const Mesh& mesh = pieces[0].mesh;
+  const Positions V = testing::rows_of(g.V, pieces[0].vertices);
   const Positions T = testing::apply(V, [](Eigen::Vector2d p) {
     const std::complex<double> z(p.x(), p.y()), w = z + 0.2 * z * z;
     return Eigen::Vector2d(w.real(), w.imag());

@@ -80,6 +80,14 @@ inline TestMesh annulus(int nr, int nt, unsigned seed = 3) {
   return a;
 }
 
+// The rows `pick` of M, in that order (Eigen 5 has no Eigen::all to index with).
+template <class Matrix>
+Matrix rows_of(const Matrix& M, const std::vector<int>& pick) {
+  Matrix out(static_cast<Eigen::Index>(pick.size()), M.cols());
+  for (size_t r = 0; r < pick.size(); ++r) out.row(static_cast<Eigen::Index>(r)) = M.row(pick[r]);
+  return out;
+}
+
 // Applies a map R^2 -> R^2 to every vertex.
 inline Positions apply(const Positions& V, const std::function<Eigen::Vector2d(Eigen::Vector2d)>& map) {
   Positions out(V.rows(), 2);
