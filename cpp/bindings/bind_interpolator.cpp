@@ -9,6 +9,8 @@ namespace bdinterp::bindings {
 namespace {
 
 using Release = py::call_guard<py::gil_scoped_release>;
+// JointKind's names in Python, in the enum's order.
+constexpr const char* kJointKinds[] = {"pin", "glued", "slide", "given"};
 
 // A read-write property for a field of the nested FlattenOptions.
 template <typename T>
@@ -34,8 +36,21 @@ void bind_options(py::module_& m) {
                      "folded inputs: cut out and fill their fold region (docs/FOLDS.md); False: the "
                      "paper's method on the whole mesh")
       .def_readwrite("joints", &InterpolatorOptions::joints,
-                     "pieces that overlap in the base shape stay joined where they overlap "
+                     "pieces that overlap in the base shape and are held by a pin or glued stay joined "
                      "(docs/JOINTS.md); False: every piece placed on its own")
+      .def_property(
+          "joint_links",
+          [](const InterpolatorOptions& o) {
+            py::list out;
+            for (const JointLink& l : o.joint_links) out.append(py::make_tuple(l.parent_vertex, l.child_vertex, l.point));
+            return out;
+          },
+          [](InterpolatorOptions& o, const std::vector<std::tuple<int, int, Eigen::Vector2d>>& links) {
+            o.joint_links.clear();
+            for (const auto& [parent, child, point] : links) o.joint_links.push_back({parent, child, point});
+          },
+          "the tree of joints as given: (parent vertex, child vertex, point (2,)) per child piece; "
+          "empty: the joints found from the overlaps")
       .def_property_readonly_static(
           "MAX_THREADS", [](py::object) { return InterpolatorOptions::kMaxThreads; });
   flatten_field(cls, "tolerance", &FlattenOptions::tolerance,
@@ -94,11 +109,13 @@ void bind_interpolator(py::module_& m) {
             py::list out;
             for (const auto& j : I.joints())
               out.append(py::dict(py::arg("parent") = j.parent_vertex, py::arg("child") = j.child_vertex,
-                                  py::arg("point") = j.point, py::arg("pin") = j.pin));
+                                  py::arg("point") = j.point, py::arg("pin") = j.pin,
+                                  py::arg("kind") = kJointKinds[static_cast<int>(j.kind)], py::arg("fit") = j.fit));
             return out;
           },
-          "The joints between overlapping pieces: dicts parent, child (each piece's lowest vertex), "
-          "point (the joint point in the base shape), pin (a pin, else an overlap point).")
+          "The joints between pieces, parents first: dicts parent, child (each piece's lowest vertex), "
+          "point (the joint point in the base shape), kind ('pin', 'glued', 'slide' or 'given'), pin (both "
+          "pieces carry the point to one place in every input) and fit (that gap relative to the size).")
       .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
            "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),

@@ -57,20 +57,43 @@ std::vector<std::unique_ptr<const PiecePlan>> plan_pieces(std::vector<Piece> pie
   return plans;
 }
 
-// The joints between overlapping pieces (joints.h); null with one piece or joints off.
+// The given joint links with their pieces and points in the normalised frame (InvalidInput naming
+// the link for a vertex in no piece or a point that is not finite).
+std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<const PiecePlan>>& plans, int num_vertices,
+                                             const InterpolatorOptions& options, const Eigen::RowVector2d& offset,
+                                             double scale) {
+  std::vector<int> piece_of(static_cast<size_t>(num_vertices), -1);
+  for (size_t p = 0; p < plans.size(); ++p)
+    for (int v : plans[p]->piece.vertices) piece_of[static_cast<size_t>(v)] = static_cast<int>(p);
+  std::vector<detail::GivenJoint> out;
+  for (const JointLink& l : options.joint_links) {
+    const std::string where = "joint link " + std::to_string(out.size()) + ": ";
+    for (int v : {l.parent_vertex, l.child_vertex}) {
+      if (v < 0 || v >= num_vertices)
+        throw InvalidInput(where + "vertex " + std::to_string(v) + " out of range [0, " + std::to_string(num_vertices) + ")");
+      if (piece_of[static_cast<size_t>(v)] < 0) throw InvalidInput(where + "vertex " + std::to_string(v) + " is in no face");
+    }
+    if (!l.point.allFinite()) throw InvalidInput(where + "its point is not finite");
+    out.push_back({piece_of[static_cast<size_t>(l.parent_vertex)], piece_of[static_cast<size_t>(l.child_vertex)],
+                   ((l.point.transpose() - offset) / scale).transpose()});
+  }
+  return out;
+}
+
+// The joints between pieces (joints.h); null with one piece or joints off.
 std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<const PiecePlan>>& plans,
                                           const std::vector<Positions>& unit, const Anchor& anchor,
-                                          const InterpolatorOptions& options) {
+                                          const InterpolatorOptions& options, const std::vector<detail::GivenJoint>& given) {
   if (!options.joints || plans.size() < 2) return nullptr;
   std::vector<JointPiece> parts;
-  int anchored = -1;  // the piece of a vertex anchor roots its group, so the anchor holds
+  int anchored = -1;  // the piece of a vertex anchor roots its tree, so the anchor holds
   for (const auto& p : plans) {
     const auto& vs = p->piece.vertices;
     if (anchor.vertex >= 0 && std::find(vs.begin(), vs.end(), anchor.vertex) != vs.end())
       anchored = static_cast<int>(parts.size());
     parts.push_back({&vs, &p->piece.mesh.faces(), &p->frames});
   }
-  return std::make_unique<const Joints>(unit, options.base, parts, anchored);
+  return std::make_unique<const Joints>(unit, options.base, parts, anchored, given);
 }
 
 // frames()'s workers: `threads` (0: the usable cores), at most one per 4 frames, at least 1.
@@ -116,7 +139,9 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   workers_.resize(1);
   for (const auto& plan : plans_) workers_[0].push_back(PieceSolver::make(*plan));
   passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds),
-                                                        join_pieces(plans_, unit, anchor, options), offset_, scale_, options);
+                                                        join_pieces(plans_, unit, anchor, options,
+                                                                    given_joints(plans_, num_vertices_, options, offset_, scale_)),
+                                                        offset_, scale_, options);
 }
 
 Interpolator::~Interpolator() = default;
@@ -128,8 +153,9 @@ std::vector<Interpolator::JointInfo> Interpolator::joints() const {
                                                           plans_[piece]->piece.vertices.end()); };
   for (int k = 0; joints && k < joints->size(); ++k) {
     const auto [parent, child] = joints->link(k);
-    out.push_back({lowest(parent), lowest(child), (joints->point(k).transpose() * scale_ + offset_).transpose(),
-                   joints->pinned(k)});
+    const detail::JointEdge& e = joints->edge(k);
+    out.push_back({lowest(parent), lowest(child), (e.point.transpose() * scale_ + offset_).transpose(),
+                   joints->pinned(k), e.kind, e.fit});
   }
   return out;
 }

@@ -59,13 +59,38 @@ def _core_anchor(anchor, plane):
     raise ValueError(f"anchor must be None, 'auto', a vertex index or an AnchorPath, got {anchor!r}")
 
 
-def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True):
+def _joint_links(joints, plane):
+    """The core's joint_links of a sequence of (parent vertex, child vertex, point) links, points
+    ((2,) or, for 3D shapes, (3,)) mapped into the plane; ValueError naming the link."""
+    links = []
+    for k, link in enumerate(joints):
+        try:
+            parent, child, point = link
+        except (TypeError, ValueError):
+            raise ValueError(f"joints[{k}] must be (parent vertex, child vertex, point), got {link!r}") from None
+        point = _validate.coordinates(np.reshape(_validate.real_array(point, f"joints[{k}] point"), (1, -1)),
+                                      f"joints[{k}] point")
+        if (point.shape[1] == 3) != (plane is not None):
+            raise ValueError(f"joints[{k}] point must be {'3D' if plane is not None else '2D'} like the shapes")
+        if plane is not None:
+            point = plane.to_plane(point, f"joints[{k}] point", tolerance=np.inf)
+        links.append((_validate.integer(parent, f"joints[{k}] parent vertex", -INT_MAX, INT_MAX),
+                      _validate.integer(child, f"joints[{k}] child vertex", -INT_MAX, INT_MAX), point[0]))
+    return links
+
+
+def _options(base, tol, max_iterations, threads, strict, folds=True, joints=True, plane=None):
     o = _core.InterpolatorOptions()
     o.base = base
     o.tolerance = _validate.positive(tol, "tol")
     o.max_iterations = _validate.integer(max_iterations, "max_iterations", low=1)
     # The range [0, MAX_THREADS] is the core's to check (one layer); here: an int that fits a C int.
     o.threads = _validate.integer(threads, "threads", -INT_MAX, INT_MAX)
+    if not isinstance(joints, (bool, np.bool_)):
+        if isinstance(joints, str) or not hasattr(joints, "__len__") or not len(joints):
+            raise ValueError(f"joints must be True, False or a non-empty sequence of (parent vertex, "
+                             f"child vertex, point), got {joints!r}")
+        o.joint_links, joints = _joint_links(joints, plane), True
     for name, value in (("strict", strict), ("folds", folds), ("joints", joints)):
         if not isinstance(value, (bool, np.bool_)):
             raise ValueError(f"{name} must be True or False, got {value!r}")
@@ -87,10 +112,14 @@ class Interpolator:
     converged/warnings) raises SolverError instead of being returned with stats.converged False.
     folds: inputs with folded faces (folded_faces) are solved without their fold region, which is
     filled in so that the folded keys are reached (docs/FOLDS.md); False: the paper's method on the
-    whole mesh (folded keys are then missed). joints: pieces (loose parts) that overlap in the base
-    shape stay joined where they overlap, each child placed by its parent's in-between and turned by
-    its blended rotation relative to it (docs/JOINTS.md; stats.joints counts them); False: every
-    piece is placed on its own.
+    whole mesh (folded keys are then missed). joints: True, pieces (loose parts) that overlap in the
+    base shape and turn against each other about a pin inside the overlap, or are glued (no relative
+    motion), stay joined: a tree of the best joints rooted at the still pieces (else the one that
+    moves least), each child placed by its parent's in-between and turned by its blended rotation
+    relative to it (docs/JOINTS.md; stats.joints counts them, joints() lists them); a sequence of
+    (parent vertex, child vertex, point) links: that tree as given (e.g. an armature's bones; each
+    piece by any of its vertices, point in the base shape like the shapes' coordinates); False:
+    every piece is placed on its own.
 
     Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
     taken with the GIL released); each returns what it would have returned alone.
@@ -103,7 +132,7 @@ class Interpolator:
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)
-        options = _options(base, tol, max_iterations, threads, strict, folds, joints)
+        options = _options(base, tol, max_iterations, threads, strict, folds, joints, self._plane)
         self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._plane),
                                         options)
 
@@ -161,10 +190,12 @@ class Interpolator:
         return self._core.stats
 
     def joints(self):
-        """The joints between pieces that overlap in the base shape (parents first): dicts with
-        parent and child (each piece by its lowest vertex), point ((2,) or, for 3D input, (3,) on
-        the child's plane in the base shape) and pin (True: the child turns about that point
-        against its parent in every input; False: a point of the overlap). Empty with joints=False."""
+        """The joints between pieces (parents first): dicts with parent and child (each piece by its
+        lowest vertex), point ((2,) or, for 3D input, (3,) on the child's plane in the base shape),
+        kind ("pin": the child turns about the point against its parent in every input; "glued": it
+        moves with its parent; "given": a link of joints=[...]), pin (both pieces carry the point to
+        one place in every input, to 0.1 % of the size) and fit (that largest gap over the inputs,
+        for "glued" the largest relative motion, relative to the size). Empty with joints=False."""
         out = self._core.joints()
         for j in out:
             if self._layers is not None:

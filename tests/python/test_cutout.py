@@ -225,6 +225,11 @@ def test_a_bending_arm_keeps_its_pin():
 
 def test_the_joints_option_is_validated():
     ch, T = cm.shoulder()
-    with pytest.raises(ValueError, match="joints must be True or False"):
+    with pytest.raises(ValueError, match="joints must be True, False or a non-empty sequence"):
         bdinterp.Interpolator([ch.V, T], ch.F, joints="yes")
+    with pytest.raises(ValueError, match="joint link 0: its child piece|joint link 1: its child piece"):
+        bdinterp.Interpolator([ch.V, T], ch.F, joints=[(0, int(ch.ranges[1][0]), [0.0, 0.0]),
+                                                      (0, int(ch.ranges[1][0]), [0.0, 0.0])])
+    with pytest.raises(ValueError, match="joint link 0: its parent and child vertices are in one piece"):
+        bdinterp.Interpolator([ch.V, T], ch.F, joints=[(0, 1, [0.0, 0.0])])
     assert bdinterp.Interpolator([ch.V, T], ch.F).layers is None  # 2D input has no layers

@@ -19,6 +19,19 @@ class PieceSolver;   // piece_solver.h
 class FramePasses;   // frame_passes.h
 }  // namespace detail
 
+// How a joint holds a child piece to its parent (docs/JOINTS.md): Pin, the child turns against its
+// parent about one point inside both pieces in every input; Glued, the child moves with its parent
+// (no relative motion in any input); Slide, it slides over its parent without turning against it
+// (an eye over a head); Given, a joint of InterpolatorOptions::joint_links.
+enum class JointKind { Pin, Glued, Slide, Given };
+
+// A joint the caller gives, e.g. a bone of an armature: the piece holding child_vertex hangs from
+// the piece holding parent_vertex at `point` (the base shape, caller's coordinates).
+struct JointLink {
+  int parent_vertex = -1, child_vertex = -1;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+};
+
 struct InterpolatorOptions {
   FlattenOptions flatten;
   int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
@@ -36,9 +49,14 @@ struct InterpolatorOptions {
   // which is filled in (folds.h, docs/FOLDS.md), so the folded keys are reached. false: the paper's
   // method on the whole mesh (the keys' folded metric is flattened too, so folded keys are missed).
   bool folds = true;
-  // Cut-out characters (joints.h, docs/JOINTS.md): pieces that overlap in the base shape stay joined
-  // where they overlap (each child placed by its parent). false: every piece placed on its own.
+  // Cut-out characters (joints.h, docs/JOINTS.md): pieces that overlap in the base shape and are
+  // held by a pin or glued (found from the inputs' relative motions) stay joined, each child placed
+  // by its parent. false: every piece placed on its own.
   bool joints = true;
+  // Non-empty (and joints on): the tree of joints as given, one link per child piece, instead of
+  // the joints found; InvalidInput for a vertex in no piece, a link within one piece, a piece with
+  // two parents or a cycle (naming the link).
+  std::vector<JointLink> joint_links;
   static constexpr int kMaxThreads = 1024;
 };
 
@@ -56,7 +74,7 @@ struct FrameStats : FlattenReport {
   // Folded inputs (folds.h): the faces of the fold region and its free vertices (0 when no input folds).
   int fold_faces = 0;
   int fold_free_vertices = 0;
-  int joints = 0;  // joints between overlapping pieces (joints.h); 0 when InterpolatorOptions::joints is off
+  int joints = 0;  // joints between pieces (joints.h); 0 when InterpolatorOptions::joints is off
 };
 
 // No hidden state: a frame depends on its weights, not on the calls before it: with the default
@@ -116,15 +134,18 @@ class Interpolator {
   int threads() const;
   const InterpolatorOptions& options() const { return options_; }
 
-  // A joint between two overlapping pieces (InterpolatorOptions::joints, joints.h): the pieces by
-  // their lowest vertex, the joint point in the base shape (caller's coordinates), and whether it
-  // is a pin (the child turns about it against its parent) or an overlap point.
+  // A joint between two pieces (InterpolatorOptions::joints, joints.h): the pieces by their lowest
+  // vertex, the joint point in the base shape (caller's coordinates), its kind, whether it is a
+  // pin (both pieces carry the point to one place in every input, to 0.1 % of the size) and fit:
+  // that largest gap over the inputs relative to the size (for Glued: the largest relative motion).
   struct JointInfo {
     int parent_vertex, child_vertex;
     Eigen::Vector2d point;
     bool pin;
+    JointKind kind;
+    double fit;
   };
-  // The joints found, parents before children; empty when joints are off or no pieces overlap.
+  // The joints, parents before children; empty when joints are off or no piece is joined.
   std::vector<JointInfo> joints() const;
 
  private:
