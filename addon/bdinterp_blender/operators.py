@@ -240,9 +240,34 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
+class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
+    """Write what the playback slider shows at every frame of the scene's range as keyframes on
+    the baked keys (drivers muted), so that glTF, FBX and Alembic exports play the in-betweens"""
+    bl_idname = "bdinterp.bake_export"
+    bl_label = "Bake for Export"
+
+    def run(self, context, obj):
+        return api.bake_for_export(export_objects(context))
+
+
+class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
+    """Remove the keyframes of Bake for Export and let the playback slider drive the keys again"""
+    bl_idname = "bdinterp.remove_export"
+    bl_label = "Remove Export Bake"
+
+    def run(self, context, obj):
+        return "Removed the export bake of %d objects" % api.remove_export_bake(export_objects(context))
+
+
+def export_objects(context):
+    """The active object and the selected mesh objects that hold a bake."""
+    from .names import BAKES_PROP
+    return [o for o in selected_meshes(context) if o == context.object or o.get(BAKES_PROP)]
+
+
 CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
            BDINTERP_OT_pose_add, BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
-           BDINTERP_OT_easing_curve_new)
+           BDINTERP_OT_easing_curve_new, BDINTERP_OT_bake_export, BDINTERP_OT_remove_export)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)
