@@ -204,3 +204,53 @@ def test_alembic_round_trip(baked):
                                                           end=FRAMES[1]),
                       lambda p: bpy.ops.wm.alembic_import(filepath=p + ".abc"))
     assert frame_error(truth, frames) <= BOUND * size
+
+
+def state(objs):
+    """Everything Bake for Export could change: custom properties, actions, driver mutes."""
+    return [(sorted(o.keys()), drivers([o]),
+             [a.name for a in bpy.data.actions]) for o in objs]
+
+
+def test_bake_for_export_refuses_without_a_bake_or_an_animated_slider(addon, bd):
+    from bdinterp_blender import BakeError, bake, bake_for_export
+    obj = character(bd)[0]
+    with pytest.raises(BakeError, match="'Character' has no baked in-betweens"):
+        bake_for_export(obj)
+    bake(obj, cb.TARGET, count=2)
+    before = state([obj])
+    with pytest.raises(BakeError, match="slider 'Pose.bdi' on 'Character' is not animated"):
+        bake_for_export([obj])
+    with pytest.raises(RuntimeError, match="is not animated"):  # the operator reports it
+        bpy.ops.bdinterp.bake_export()
+    assert state([obj]) == before
+    obj.keyframe_insert('["Pose.bdi"]', frame=1)
+    before = state([obj])
+    with pytest.raises(BakeError, match="frame range 5..4 is empty"):
+        bake_for_export(obj, frame_start=5, frame_end=4)
+    assert state([obj]) == before
+
+
+def test_bake_for_export_keys_the_given_range_and_replaces_an_earlier_one(addon, bd):
+    from bdinterp_blender import bake, bake_for_export
+    obj = character(bd)[0]
+    bake(obj, cb.TARGET, count=2)
+    for frame, value in ((3, 0.0), (7, 1.0)):
+        obj["Pose.bdi"] = value
+        obj.keyframe_insert('["Pose.bdi"]', frame=frame)
+    bpy.context.scene.frame_set(5)
+    bake_for_export(obj, frame_start=3, frame_end=10)
+    bake_for_export(obj, frame_start=2, frame_end=8)  # replaces: drivers, not its own keys, sampled
+    assert bpy.context.scene.frame_current == 5
+    curves = fcurves(obj.data.shape_keys.animation_data)
+    assert len(curves) == 3  # two in-betweens and the target
+    slider = obj.animation_data.action
+    for fc in curves:
+        kb = obj.data.shape_keys.path_resolve(fc.data_path.rsplit(".", 1)[0])
+        driver = obj.data.shape_keys.animation_data.drivers.find(fc.data_path)
+        assert [k.co[0] for k in fc.keyframe_points] == list(range(2, 9))
+        for k in fc.keyframe_points:  # the driver's expression at the slider's value, by hand
+            s = fcurves(obj.animation_data)[0].evaluate(k.co[0])
+            expected = eval(driver.driver.expression, {"min": min, "max": max}, {"s": s})
+            assert abs(k.co[1] - expected) < 1e-6, (kb.name, k.co[0])
+    assert slider is not None
