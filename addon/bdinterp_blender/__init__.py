@@ -37,9 +37,9 @@ from .core import alias_package, build_info, core_status, load_core  # noqa: E40
 alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
-from .api import bake_live, bake_for_export, remove_export_bake  # noqa: E402
+from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
 
-__all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "blend", "clear", "compute_frames", "set_live", "show_distortion",
+__all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend", "clear", "compute_frames", "set_live", "show_distortion",
            "hide_distortion", "BakeError", "load_core", "core_status", "build_info"]
 
 _modules = []

@@ -22,7 +22,7 @@ from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
 __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
-           "hide_distortion", "bake_for_export", "remove_export_bake", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
+           "hide_distortion", "bake_for_export", "remove_export_bake", "error_bound_factors", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
@@ -225,3 +225,15 @@ def remove_export_bake(objs):
     objects had an export bake."""
     objs = objs if isinstance(objs, (list, tuple)) else [objs]
     return sum(export.remove(o) for o in objs)
+
+
+def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_path=None,
+                        tolerance=DEFAULT_TOLERANCE, joints=True):
+    """The in-between factors (sorted, in (0, 1)) of the fewest keys whose linear blend stays
+    within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
+    source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At
+    least one: the middle, where the blend of source and target alone is within the bound."""
+    job = bake_job(obj, target, source, 1, None, "LINEAR", anchor, anchor_path, "bdi", tolerance,
+                   True, joints)
+    keys = job.inp.interpolator().keyframes(error)
+    return [float(t) for t in keys[1:-1]] or [0.5]

@@ -90,8 +90,11 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         layout, obj = self.layout, context.object
         props = obj.bdi
         layout.prop(props, "use_factors", text="Explicit Factors")
-        layout.prop(props, "factors" if props.use_factors else "count")
         if not props.use_factors:
+            layout.prop(props, "use_error_bound", text="Error Bound")
+        layout.prop(props, "factors" if props.use_factors else
+                    "error_bound" if props.use_error_bound else "count")
+        if not (props.use_factors or props.use_error_bound):
             layout.prop(props, "easing", text="Easing")
             if props.easing == 'CUSTOM':
                 node = props.easing_curve.nodes.get("Easing") if props.easing_curve else None
