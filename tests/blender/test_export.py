@@ -190,7 +190,9 @@ def test_fbx_round_trip(baked):
     bpy.ops.wm.open_mainfile(filepath=path)
     frames = reimport(lambda p: bpy.ops.export_scene.fbx(filepath=p + ".fbx", bake_anim=True),
                       lambda p: bpy.ops.import_scene.fbx(filepath=p + ".fbx"))
-    assert frame_error(truth, frames) <= BOUND * size
+    err = frame_error(truth, frames)
+    print("FBX %s: max vertex error / size %.3g" % (case, err / size))
+    assert err <= BOUND * size
 
 
 def test_alembic_round_trip(baked):
@@ -203,7 +205,9 @@ def test_alembic_round_trip(baked):
     frames = reimport(lambda p: bpy.ops.wm.alembic_export(filepath=p + ".abc", start=FRAMES[0],
                                                           end=FRAMES[1]),
                       lambda p: bpy.ops.wm.alembic_import(filepath=p + ".abc"))
-    assert frame_error(truth, frames) <= BOUND * size
+    err = frame_error(truth, frames)
+    print("Alembic %s: max vertex error / size %.3g" % (case, err / size))
+    assert err <= BOUND * size
 
 
 def state(objs):
