@@ -258,3 +258,22 @@ def test_bake_for_export_keys_the_given_range_and_replaces_an_earlier_one(addon,
             expected = eval(driver.driver.expression, {"min": min, "max": max}, {"s": s})
             assert abs(k.co[1] - expected) < 1e-6, (kb.name, k.co[0])
     assert slider is not None
+
+
+def test_a_character_follows_a_vertex_anchor_of_its_active_object(addon):
+    # The paper's vertex anchor moves on the chord between its source and target positions; the
+    # active object's vertices come first in the character, so its index is the object's own.
+    from bdinterp_blender import bake
+    pieces = cc.character()[0]
+    objs = cb.seven_objects(pieces)
+    hand = bpy.data.objects["Hand"]
+    order = [hand] + [o for o in objs if o != hand]
+    r = bake(order, cb.TARGET, count=3, anchor=2)
+    assert r.objects == 7
+    m = np.array(hand.matrix_world)
+    src, tgt = (cb.read(hand, k)[2] @ m[:3, :3].T + m[:3, 3] for k in ("Basis", cb.TARGET))
+    size = cb.size_of(pieces)
+    assert np.linalg.norm(tgt - src) > 0.1 * size
+    for name, t in zip(cb.baked(hand), r.factors):
+        X = cb.read(hand, name)[2] @ m[:3, :3].T + m[:3, 3]
+        assert np.linalg.norm(X - ((1 - t) * src + t * tgt)) < 1e-5 * size, name
