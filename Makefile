@@ -13,7 +13,7 @@ EXTENSION_ZIP = dist/bdinterp_blender-$(VERSION)-extension.zip
 LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
 .PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
-        test-blender-43 test-blender-52 test-toolchain-sid test-wheel gallery bench clean \
+        test-blender-43 test-blender-52 test-runtime test-toolchain-sid test-wheel gallery bench clean \
         suitesparse test-cholmod-source test-windows test-libcxx test-wheel-source test-extension-split \
         bench-cholmod-source
 
@@ -61,12 +61,18 @@ test-python: install
 test-blender: addon  ## Blender 3.4 (Debian 12) on the legacy zip, host SuiteSparse/METIS hidden
 	bash scripts/without-host-libs.sh $(BLENDER) --background --factory-startup --python-exit-code 1 \
 	    --python tests/blender/run_blender_tests.py -- -q --zip $(LEGACY_ZIP)
+	$(MAKE) test-runtime RUNTIME=blender-3.4
 
 test-blender-43: addon  ## Blender 4.3 / Python 3.13 in a Debian 13 chroot on the extension zip
 	bash scripts/test-blender-chroot.sh trixie $(EXTENSION_ZIP) -q
+	$(MAKE) test-runtime RUNTIME=blender-4.3
 
 test-blender-52: addon  ## Blender 5.2 LTS / Python 3.14 in a Debian unstable chroot on the extension zip
 	bash scripts/test-blender-chroot.sh sid $(EXTENSION_ZIP) -q
+	$(MAKE) test-runtime RUNTIME=blender-5.2
+
+test-runtime:  ## the glTF files a Blender suite exported (build/runtime/$(RUNTIME)) validated and played in three.js (node)
+	BDI_RUNTIME_DIR=build/runtime/$(RUNTIME) $(PYTHON) -m pytest -q tests/runtime
 
 test-toolchain-sid: setup  ## C++ and Python tests with Eigen 5, SuiteSparse 7, pybind11 3, numpy 2 (sid chroot)
 	bash scripts/test-toolchain-chroot.sh -q

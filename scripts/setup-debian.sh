@@ -14,13 +14,16 @@ packages=(
   g++-mingw-w64-x86-64-posix wine64 googletest            # make test-windows: MinGW-w64 cross build, Wine, GoogleTest source
   libc++-dev libc++abi-dev                                # make test-libcxx: clang with libc++ (Apple's C++ library)
 )
+SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if ((${#missing[@]})); then
-  SUDO=""; [ "$(id -u)" -eq 0 ] || SUDO="sudo"
   echo "installing: ${missing[*]}"
   $SUDO apt-get update -qq
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
 fi
+# tests/runtime: three.js and Khronos' glTF validator for node, at the versions of tests/node/package-lock.json
+command -v npm >/dev/null || DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends npm
+npm ci --prefix "$(dirname "$0")/../tests/node" --no-audit --no-fund --loglevel=error

@@ -15,14 +15,14 @@ RuntimeError from the solver) leaves the object unchanged.
 
 import time
 
-from . import baking, character, distortion, live, mesh_io, playback, solve
+from . import baking, character, distortion, export, live, mesh_io, playback, solve
 from .baking import BakeJob, BakeResult, run, write_key
 from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
 __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
-           "hide_distortion", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
+           "hide_distortion", "bake_for_export", "remove_export_bake", "error_bound_factors", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
@@ -116,6 +116,8 @@ def clear(obj, target, source=None):
     shared slider goes with its owner). Returns the names of the removed keys."""
     objs = character.members(obj, target) if isinstance(obj, (list, tuple)) else [obj]
     srcs = [mesh_io.key_block(mesh_io.key_of(o), source).name for o in objs]  # all checked first
+    for o in objs:  # export keyframes would outlive the keys they animate
+        export.remove(o)
     return [name for o, src in zip(objs, srcs)
             for name in playback.remove(o, src, target, keep_slider=False)]
 
@@ -206,3 +208,32 @@ def show_distortion(obj, key=None, visible=True):
 def hide_distortion(obj=None):
     """Switch the viewports (and Workbench renders) back to material colours."""
     distortion.set_visible(False, obj)
+
+
+def bake_for_export(objs, *, frame_start=None, frame_end=None):
+    """Write what the playback sliders show at every frame of frame_start..frame_end (default:
+    the scene's range) as linear F-curves on the baked keys' values of each object in `objs` (one
+    object or a list, e.g. every object of a character), one keyframe a frame, so that Blender's
+    glTF, FBX and Alembic exporters carry the animation; the sliders' drivers are muted while
+    those F-curves exist. Refuses (BakeError, nothing changed) where an object has no bake or a
+    slider has no keyframes or driver. Returns a message."""
+    return export.bake(objs, frame_start, frame_end)
+
+
+def remove_export_bake(objs):
+    """Remove the F-curves of bake_for_export() and unmute the sliders' drivers; returns how many
+    objects had an export bake."""
+    objs = objs if isinstance(objs, (list, tuple)) else [objs]
+    return sum(export.remove(o) for o in objs)
+
+
+def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_path=None,
+                        tolerance=DEFAULT_TOLERANCE, joints=True):
+    """The in-between factors (sorted, in (0, 1)) of the fewest keys whose linear blend stays
+    within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
+    source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At
+    least one: the middle, where the blend of source and target alone is within the bound."""
+    job = bake_job(obj, target, source, 1, None, "LINEAR", anchor, anchor_path, "bdi", tolerance,
+                   True, joints)
+    keys = job.inp.interpolator().keyframes(error)
+    return [float(t) for t in keys[1:-1]] or [0.5]

@@ -7,7 +7,6 @@ are written back in its own local coordinates, driven by one slider on the activ
 
 from . import solve
 from .baking import BakeJob, store_result
-from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE
 
 
@@ -41,15 +40,14 @@ class CharacterInputs(solve.Inputs):
     def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
                  joints=True):
         import numpy as np
-        if anchor not in (None, "AUTO", "auto"):
-            raise BakeError("a character of several objects takes the automatic anchor, not %r"
-                            % (anchor,))
         self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, joints)
                       for obj in objs]
         first = self.parts[0]
         self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
         self.obj_name = "character of %d objects" % len(objs)
-        self.names, self.joints, self.anchor = first.names, bool(joints), None
+        # a vertex (or group) anchor of the first object: its vertices come first, so its index
+        self.names, self.joints = first.names, bool(joints)
+        self.anchor = solve.resolve_anchor(first.obj, anchor, None, 1)
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
         self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
         # polygons numbered across the objects, so that folds count each object's apart

@@ -30,13 +30,20 @@ def anchor_of(props):
     return anchor_choice(props)
 
 
-def bake_settings(props):
-    """Keyword arguments of api.bake() from the panel settings."""
+def bake_settings(props, objs=None):
+    """Keyword arguments of api.bake() from the panel settings (of the bake of objs: the error
+    bound's factors are computed for them)."""
     kw = dict(target=props.target, source=props.source or None, easing=easing_of(props),
               anchor=anchor_of(props), anchor_path=props.anchor_path, method=props.method,
               tolerance=props.tolerance, drivers=props.drivers, joints=props.joints)
     if props.use_factors:
         kw["factors"] = timing.parse_factors(props.factors)
+    elif props.use_error_bound:
+        if props.method != 'bdi':
+            raise api.BakeError("the error bound measures bdi in-betweens: choose Method bdi")
+        kw["factors"] = api.error_bound_factors(
+            objs, kw["target"], props.error_bound, kw["source"], kw["anchor"], kw["anchor_path"],
+            kw["tolerance"], kw["joints"])
     else:
         kw["count"] = props.count
     return kw
@@ -79,7 +86,8 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
 
     def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
-        job = api.bake_job(selected_meshes(context), **bake_settings(obj.bdi))
+        objs = selected_meshes(context)
+        job = api.bake_job(objs, **bake_settings(obj.bdi, objs))
         wm.progress_begin(0, job.total)
         try:
             while not job.finished:
@@ -91,7 +99,8 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
     def invoke(self, context, event):
         """From the UI: one chunk of frames per timer event, with progress, Esc cancels."""
         try:
-            self._job = api.bake_job(selected_meshes(context), **bake_settings(context.object.bdi))
+            objs = selected_meshes(context)
+            self._job = api.bake_job(objs, **bake_settings(context.object.bdi, objs))
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
@@ -240,9 +249,34 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
+class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
+    """Write what the playback slider shows at every frame of the scene's range as keyframes on
+    the baked keys (drivers muted), so that glTF, FBX and Alembic exports play the in-betweens"""
+    bl_idname = "bdinterp.bake_export"
+    bl_label = "Bake for Export"
+
+    def run(self, context, obj):
+        return api.bake_for_export(export_objects(context))
+
+
+class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
+    """Remove the keyframes of Bake for Export and let the playback slider drive the keys again"""
+    bl_idname = "bdinterp.remove_export"
+    bl_label = "Remove Export Bake"
+
+    def run(self, context, obj):
+        return "Removed the export bake of %d objects" % api.remove_export_bake(export_objects(context))
+
+
+def export_objects(context):
+    """The active object and the selected mesh objects that hold a bake."""
+    from .names import BAKES_PROP
+    return [o for o in selected_meshes(context) if o == context.object or o.get(BAKES_PROP)]
+
+
 CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
            BDINTERP_OT_pose_add, BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
-           BDINTERP_OT_easing_curve_new)
+           BDINTERP_OT_easing_curve_new, BDINTERP_OT_bake_export, BDINTERP_OT_remove_export)
 
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

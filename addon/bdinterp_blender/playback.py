@@ -178,3 +178,8 @@ def _recorded_owner(obj, record):
         return obj
     import bpy
     return bpy.data.objects.get(name) or obj
+
+
+# what Bake for Export (export.py) reads of a bake: the slider's data path, a key's driver, the
+# object that holds the slider
+prop_path, driver_of, recorded_owner = _prop_path, _driver_of, _recorded_owner

@@ -53,6 +53,13 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                               description="Bake at the listed factors instead of a count")
     factors: StringProperty(name="Factors", default="0.25, 0.5, 0.75",
                             description="Interpolation factors in (0, 1), separated by commas")
+    use_error_bound: BoolProperty(name="Error Bound", default=False,
+                                  description="Bake the fewest in-betweens whose linear blend stays "
+                                              "within the error bound of the exact in-between")
+    error_bound: FloatProperty(name="Error Bound", min=1e-5, max=0.5, default=0.005, precision=4,
+                               step=0.01, description="Largest distance of the linear blend of "
+                               "neighbouring keys from the exact in-between, relative to the "
+                               "character's size (0.005 = 0.5 %)")
     easing: EnumProperty(name="Easing", items=EASING_ITEMS, default='LINEAR')
     easing_curve: PointerProperty(type=bpy.types.NodeTree, name="Easing Curve",
                                   description="Node group holding the custom easing curve")

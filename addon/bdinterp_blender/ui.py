@@ -90,8 +90,11 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         layout, obj = self.layout, context.object
         props = obj.bdi
         layout.prop(props, "use_factors", text="Explicit Factors")
-        layout.prop(props, "factors" if props.use_factors else "count")
         if not props.use_factors:
+            layout.prop(props, "use_error_bound", text="Error Bound")
+        layout.prop(props, "factors" if props.use_factors else
+                    "error_bound" if props.use_error_bound else "count")
+        if not (props.use_factors or props.use_error_bound):
             layout.prop(props, "easing", text="Easing")
             if props.easing == 'CUSTOM':
                 node = props.easing_curve.nodes.get("Easing") if props.easing_curve else None
@@ -117,7 +120,17 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         row.scale_y = 1.4
         row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
         row.operator("bdinterp.clear", text="", icon='TRASH')
+        draw_export(layout, obj)
         draw_bake(layout, context, obj)
+
+
+def draw_export(layout, obj):
+    """Bake for Export, or its removal where the keys carry an export bake."""
+    from .export import EXPORT_PROP
+    row = layout.row(align=True)
+    row.operator("bdinterp.bake_export", icon='EXPORT')
+    if obj.get(EXPORT_PROP) is not None:
+        row.operator("bdinterp.remove_export", text="", icon='X')
 
 
 def character_size(context, obj):
@@ -265,7 +278,7 @@ PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP
           BDINTERP_PT_live, BDINTERP_PT_distortion)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
 ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
-         'MOD_WARP', 'CHECKMARK')  # every icon used above
+         'MOD_WARP', 'CHECKMARK', 'EXPORT')  # every icon used above
 
 
 class degraded:

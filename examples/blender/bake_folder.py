@@ -9,7 +9,9 @@ FOLDER... : folders (relative or absolute) and/or .blend files; none: the .blend
 command line (one file per process, as a render farm runs it).  Suitable: a mesh with shape keys.
 Per object the pair comes from its add-on settings if it has them (Object.bdi.source/target),
 else: source = the reference key, and every other key that is not itself a bake result is a
-target.  Prints one line per object, 'file: object: OK|FAILED|SKIPPED ...'; a file that cannot
+target.  Objects that share a pair and a parent (or that an earlier bake made one character) are
+baked as one character, the first by name holding the slider.  Prints one line per object (or
+character), 'file: object: OK|FAILED|SKIPPED ...'; a file that cannot
 be opened or saved is reported and the next one processed.  Files are saved in place (or into
 OUTDIR); a JSON summary goes to --summary (default OUTDIR/FOLDER bake_summary.json).  Exit code
 1 if any object or file failed (no --python-exit-code needed), 2 on bad arguments.  Uses the
@@ -57,21 +59,29 @@ def pairs(obj, addon):
             if kb.name != ref and ".bdi" not in kb.name and kb.name != addon.api.LIVE_KEY]
 
 
-def bake_object(obj, addon, args):
-    """(status 'OK'/'FAILED'/'SKIPPED', text, per-pair summaries) of baking obj's pairs."""
+def bake_pair(objs, source, target, addon, args):
+    """(line, summary, failed) of baking source -> target of one object or a character (a list)."""
+    try:
+        r = addon.bake(objs, source=source, target=target, count=args.count, easing=args.easing)
+        return ("%s -> %s: %d keys, max K %.4g (inputs %.4g)"
+                % (source, target, len(r.keys), r.max_distortion, r.input_distortion),
+                dict(r.summary(), status="OK"), False)
+    except (ValueError, RuntimeError) as exc:
+        skip = args.skip_nonplanar and "not planar" in str(exc)
+        return ("%s -> %s: %s: %s" % (source, target, "skipped" if skip else "FAILED", exc),
+                {"source": source, "target": target, "error": str(exc),
+                 "status": "SKIPPED" if skip else "FAILED"}, not skip)
+
+
+def bake_object(obj, addon, args, pair_list=None):
+    """(status 'OK'/'FAILED'/'SKIPPED', text, per-pair summaries) of baking obj's pairs (or
+    `pair_list`; obj may be a list: a character)."""
     lines, out, failed = [], [], False
-    for source, target in pairs(obj, addon):
-        try:
-            r = addon.bake(obj, source=source, target=target, count=args.count, easing=args.easing)
-            lines.append("%s -> %s: %d keys, max K %.4g (inputs %.4g)"
-                         % (source, target, len(r.keys), r.max_distortion, r.input_distortion))
-            out.append(dict(r.summary(), status="OK"))
-        except (ValueError, RuntimeError) as exc:
-            skip = args.skip_nonplanar and "not planar" in str(exc)
-            lines.append("%s -> %s: %s: %s" % (source, target, "skipped" if skip else "FAILED", exc))
-            out.append({"source": source, "target": target, "error": str(exc),
-                        "status": "SKIPPED" if skip else "FAILED"})
-            failed |= not skip
+    for source, target in pairs(obj, addon) if pair_list is None else pair_list:
+        line, summary, fail = bake_pair(obj, source, target, addon, args)
+        lines.append(line)
+        out.append(summary)
+        failed |= fail
     if failed:
         status = "FAILED"
     elif out and all(p["status"] == "SKIPPED" for p in out) or not out:
@@ -79,6 +89,22 @@ def bake_object(obj, addon, args):
     else:
         status = "OK"
     return status, "; ".join(lines) or "no target keys", out
+
+
+def characters(objs, addon):
+    """{(source, target): [objects]}: the pairs that several objects with one parent share, or
+    that an earlier bake recorded as one character (its slider's owner: that bake decides); each
+    is baked as one character."""
+    groups = {}
+    for obj in objs:
+        for source, target in pairs(obj, addon):
+            record = addon.playback.find(obj, source, target)
+            owner = record.record.get("owner") if record is not None else None
+            group = ("owner", owner) if owner else \
+                ("parent", obj.parent.name) if obj.parent is not None else None
+            if group is not None:
+                groups.setdefault(group + (source, target), []).append(obj)
+    return {k[2:]: v for k, v in groups.items() if len(v) > 1}
 
 
 def suitable(obj):
@@ -89,10 +115,17 @@ def bake_file(path, addon, args):
     """Bake every suitable object of the open file `path`, save it; the file's summary dict."""
     name = os.path.basename(path)
     result = {"file": path, "objects": [], "status": "OK"}
-    for obj in sorted((o for o in bpy.data.objects if suitable(o)), key=lambda o: o.name):
-        status, text, summaries = bake_object(obj, addon, args)
-        print("%s: %s: %s %s" % (name, obj.name, status, text), flush=True)
-        result["objects"].append({"object": obj.name, "status": status, "pairs": summaries})
+    objs = sorted((o for o in bpy.data.objects if suitable(o)), key=lambda o: o.name)
+    together = characters(objs, addon)
+    units = [(objs_, [pair], " + ".join(o.name for o in objs_)) for pair, objs_ in together.items()]
+    units += [(obj, [p for p in pairs(obj, addon) if obj not in together.get(p, ())], obj.name)
+              for obj in objs]
+    for unit, pair_list, label in units:
+        if not pair_list and not isinstance(unit, list) and pairs(unit, addon):
+            continue  # every pair of this object was baked with its character
+        status, text, summaries = bake_object(unit, addon, args, pair_list)
+        print("%s: %s: %s %s" % (name, label, status, text), flush=True)
+        result["objects"].append({"object": label, "status": status, "pairs": summaries})
         if status == "FAILED":
             result["status"] = "FAILED"
     out = os.path.join(args.out, name) if args.out else path

@@ -6,6 +6,7 @@ import numpy as np
 
 from . import _core
 from . import _validate
+from . import keyframes as _keyframes
 from .constants import INT_MAX, MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
 
 
@@ -135,6 +136,7 @@ class Interpolator:
         options = _options(base, tol, max_iterations, threads, strict, folds, joints, self._plane)
         self._core = _core.Interpolator(shapes2d, f, _core_anchor(anchor, self._plane),
                                         options)
+        self._size = _keyframes.size(shapes)
 
     @property
     def plane(self):
@@ -172,6 +174,20 @@ class Interpolator:
             return uv
         return np.stack([self._out(x, [1 - t, t]) for x, t in zip(uv, ts)]) if ts.size else \
             np.empty((0, self._n, 3))
+
+    @property
+    def size(self):
+        """The diagonal of the larger input shape's bounding box (what keyframes' tolerance scales)."""
+        return self._size
+
+    def keyframes(self, tolerance, t0=0.0, t1=1.0):
+        """The fewest factors (sorted, t0 and t1 included) such that the linear blend of the
+        frames at consecutive factors stays within tolerance x size of the exact in-between at
+        every factor between them (two shapes; checked densely, refined where not): where to put
+        keys for a runtime that blends them linearly."""
+        if self._k != 2:
+            raise ValueError(f"keyframes needs two shapes, this Interpolator has {self._k}")
+        return _keyframes.keyframes(self, tolerance, t0, t1)
 
     @property
     def threads(self):
