@@ -82,11 +82,17 @@ Field alpha_field(const Eigen::Ref<const AlphaImage>& alpha, double threshold, i
   f.margin = margin, f.width = w + 2 * margin, f.height = h + 2 * margin;
   f.value.assign(size_t(f.width) * f.height, float(-threshold));
   const float th = float(threshold);
+  f.lo_i = f.width, f.lo_j = f.height, f.hi_i = f.hi_j = -1;
   for (int r = 0; r < h; ++r) {
-    float* row = &f.at(margin, h - 1 - r + margin);
+    const int j = h - 1 - r + margin;
+    float* row = &f.at(margin, j);
     for (int c = 0; c < w; ++c) {
       const float v = alpha(r, c) - th;
       row[c] = v == 0.0f ? 1e-6f : v;
+      if (v >= 0) {
+        f.lo_i = std::min(f.lo_i, c + margin), f.hi_i = std::max(f.hi_i, c + margin);
+        f.lo_j = std::min(f.lo_j, j), f.hi_j = std::max(f.hi_j, j);
+      }
     }
   }
   return f;
@@ -94,27 +100,28 @@ Field alpha_field(const Eigen::Ref<const AlphaImage>& alpha, double threshold, i
 
 std::vector<Loop> trace(const Field& f) {
   const Edges e{f.width, int64_t(f.width) * f.height};
-  std::vector<int64_t> next;  // next[from] = to, per crossing; -1: none
+  std::unordered_map<int64_t, int64_t> next;  // from -> to, per crossing (few: the outline's)
   std::vector<int64_t> starts;
-  next.assign(size_t(2 * e.count), -1);
   int64_t seg[4];
-  for (int j = 0; j + 1 < f.height; ++j)
-    for (int i = 0; i + 1 < f.width; ++i) {
+  // Only the cells that touch a sample that may be inside.
+  for (int j = std::max(0, f.lo_j - 1); j + 1 < f.height && j <= f.hi_j; ++j)
+    for (int i = std::max(0, f.lo_i - 1); i + 1 < f.width && i <= f.hi_i; ++i) {
       const int n = cell_segments(f, e, i, j, seg);
       for (int s = 0; s < n; ++s) {
-        next[size_t(seg[2 * s])] = seg[2 * s + 1];
+        next[seg[2 * s]] = seg[2 * s + 1];
         starts.push_back(seg[2 * s]);
       }
     }
   std::vector<Loop> loops;
   for (int64_t start : starts) {
-    if (next[size_t(start)] < 0) continue;  // already on a loop
+    auto at = next.find(start);
+    if (at == next.end()) continue;  // already on a loop
     Loop loop;
-    for (int64_t id = start; next[size_t(id)] >= 0;) {
-      loop.push_back(crossing(f, e, id));
-      const int64_t to = next[size_t(id)];
-      next[size_t(id)] = -1;
-      id = to;
+    while (at != next.end()) {
+      loop.push_back(crossing(f, e, at->first));
+      const int64_t to = at->second;
+      next.erase(at);
+      at = next.find(to);
     }
     loops.push_back(std::move(loop));
   }
@@ -176,10 +183,15 @@ Field grown(const Field& f, const std::vector<Loop>& loops, double padding) {
           d = std::min(d, float(segment_distance(f.position(i, j), a, b)));
         }
     }
-  for (size_t s = 0; s < g.value.size(); ++s) {
-    const float v = g.value[s] >= 0 ? float(padding + 1.0) : float(padding) - distance[s];
-    g.value[s] = v == 0.0f ? 1e-6f : v;
-  }
+  const int grow = int(std::ceil(reach));
+  g.lo_i = std::max(0, f.lo_i - grow), g.hi_i = std::min(f.width - 1, f.hi_i + grow);
+  g.lo_j = std::max(0, f.lo_j - grow), g.hi_j = std::min(f.height - 1, f.hi_j + grow);
+  for (int j = g.lo_j; j <= g.hi_j; ++j)
+    for (int i = g.lo_i; i <= g.hi_i; ++i) {
+      const size_t s = size_t(j) * f.width + i;
+      const float v = g.value[s] >= 0 ? float(padding + 1.0) : float(padding) - distance[s];
+      g.value[s] = v == 0.0f ? 1e-6f : v;
+    }
   return g;
 }
 

@@ -4,6 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
+#include <unordered_map>
 #include <vector>
 
 #include "bdinterp/sprite_mesh.h"
@@ -20,6 +21,7 @@ using Loop = std::vector<Point>;
 struct Field {
   int width = 0, height = 0, margin = 0;
   std::vector<float> value;
+  int lo_i = 0, hi_i = 0, lo_j = 0, hi_j = 0;  // the samples that may be inside: lo <= i, j <= hi
   float at(int i, int j) const { return value[static_cast<size_t>(j) * width + i]; }
   float& at(int i, int j) { return value[static_cast<size_t>(j) * width + i]; }
   Point position(double i, double j) const { return {i - margin + 0.5, j - margin + 0.5}; }
