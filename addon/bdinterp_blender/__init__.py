@@ -3,7 +3,7 @@
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
 Modules import one way: core (loader) -> names, timing, mesh_io -> solve (shapes -> frames, no
-writes) -> playback, live, distortion, baking (each writes one kind of thing) -> character
+writes) -> playback, live, distortion, sprite_mesh, baking (each writes one kind of thing) -> character
 (several objects baked as one) -> api (the scripting facade) -> properties, operators -> ui ->
 this file (registration).
 """
