@@ -21,7 +21,7 @@ def image_of(obj):
     """The first image an image-texture node of obj's materials shows (None if none)."""
     for slot in obj.material_slots:
         mat = slot.material
-        if mat and mat.use_nodes and mat.node_tree:
+        if mat and mat.node_tree:  # (use_nodes: deprecated in 5.x, where materials always use nodes)
             for node in mat.node_tree.nodes:
                 if node.type == 'TEX_IMAGE' and node.image is not None:
                     return node.image

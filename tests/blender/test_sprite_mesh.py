@@ -24,7 +24,8 @@ def image_plane(name, sprite, location, scale=2.0):
     me = bpy.data.meshes.new(name)
     me.from_pydata([(-sx, -sy, 0), (sx, -sy, 0), (sx, sy, 0), (-sx, sy, 0)], [], [(0, 1, 2, 3)])
     mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
+    if bpy.app.version < (5, 0, 0):  # always nodes on 5.x (use_nodes deprecated)
+        mat.use_nodes = True
     node = mat.node_tree.nodes.new("ShaderNodeTexImage")
     node.image = image
     me.materials.append(mat)
