@@ -162,15 +162,35 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
         return {'FINISHED'}
 
 
+class BDINTERP_PT_sprite_mesh(bpy.types.Panel):
+    """In the sidebar's bdinterp tab while the active object is a mesh showing an image, without
+    shape keys yet (an image plane): the way to a mesh that bends."""
+    bl_space_type, bl_region_type, bl_category = 'VIEW_3D', 'UI', "bdinterp"
+    bl_label = "Mesh from Image"
+
+    @classmethod
+    def poll(cls, context):
+        obj = context.object
+        return (obj is not None and obj.type == 'MESH' and obj.data.shape_keys is None
+                and image_of(obj) is not None)
+
+    def draw(self, context):
+        image = image_of(context.object)
+        self.layout.label(text="%s: %d x %d px" % (image.name, *image.size), icon='IMAGE_DATA')
+        self.layout.operator(BDINTERP_OT_mesh_from_image.bl_idname, icon='MOD_TRIANGULATE')
+
+
 def _menu(self, context):
     self.layout.operator(BDINTERP_OT_mesh_from_image.bl_idname)
 
 
 def register():
     bpy.utils.register_class(BDINTERP_OT_mesh_from_image)
+    bpy.utils.register_class(BDINTERP_PT_sprite_mesh)
     bpy.types.VIEW3D_MT_object.append(_menu)
 
 
 def unregister():
     bpy.types.VIEW3D_MT_object.remove(_menu)
+    bpy.utils.unregister_class(BDINTERP_PT_sprite_mesh)
     bpy.utils.unregister_class(BDINTERP_OT_mesh_from_image)

@@ -80,3 +80,13 @@ def test_failure_changes_nothing(addon):
         bdinterp_blender.mesh_from_image([good, empty])
     assert len(good.data.vertices) == 4 and len(empty.data.vertices) == 4
     assert bdinterp_blender.mesh_from_image(good)[0] > 50
+
+
+def test_panel_and_menu(addon):
+    obj = image_plane("Panel", "ring", (0, 0, 0))
+    bpy.context.view_layer.objects.active = obj
+    panel = bpy.types.BDINTERP_PT_sprite_mesh
+    assert panel.poll(bpy.context)
+    assert any(getattr(f, "__name__", "") == "_menu" for f in bpy.types.VIEW3D_MT_object._dyn_ui_initialize())
+    obj.shape_key_add(name="Basis")
+    assert not panel.poll(bpy.context)  # a mesh with keys is past this step
