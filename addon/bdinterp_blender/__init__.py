@@ -11,7 +11,7 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "character", "sprite_mesh", "api", "properties", "operators", "ui"):
+                  "baking", "character", "sprite_mesh", "layered_import", "api", "properties", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -39,9 +39,10 @@ from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,
                   show_distortion, BakeError)
 from .api import bake_live  # noqa: E402
 from .sprite_mesh import mesh_from_image  # noqa: E402
+from .layered_import import import_layered  # noqa: E402
 
 __all__ = ["bake", "bake_live", "blend", "clear", "compute_frames", "set_live", "show_distortion",
-           "hide_distortion", "BakeError", "mesh_from_image", "load_core", "core_status", "build_info"]
+           "hide_distortion", "BakeError", "mesh_from_image", "import_layered", "load_core", "core_status", "build_info"]
 
 _modules = []
 
@@ -56,8 +57,8 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, operators, live as live_mod, sprite_mesh
-        _modules = [properties, operators, ui, live_mod, sprite_mesh]
+        from . import properties, operators, live as live_mod, sprite_mesh, layered_import
+        _modules = [properties, operators, ui, live_mod, sprite_mesh, layered_import]
     for mod in _modules:
         mod.register()
 

@@ -7,7 +7,7 @@ import os
 from conftest import ROOT
 
 LAYERS = [["core", "names", "actions"], ["timing", "mesh_io"], ["solve"],
-          ["playback", "live", "distortion", "sprite_mesh"], ["baking"], ["character"], ["api"], ["properties", "operators"],
+          ["playback", "live", "distortion", "sprite_mesh"], ["baking", "layered_import"], ["character"], ["api"], ["properties", "operators"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 
