@@ -21,7 +21,7 @@ setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
 
 build: setup      ## C++ library, tests and the in-tree Python module
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) \
+	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) -DBDINTERP_SPRITE=ON \
 	      -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
 	cmake --build $(BUILD) -j $(JOBS)
 
@@ -116,7 +116,7 @@ test-cholmod-source: suitesparse  ## the C++ suite with CHOLMOD built from sourc
 
 test-windows: suitesparse  ## the C++ suite cross-built with MinGW-w64 (static .exe), run under wine64
 	cmake -S . -B $(BUILD)/windows -DCMAKE_TOOLCHAIN_FILE=cmake/mingw-w64-x86_64.cmake \
-	      -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PYTHON=OFF $(SOURCE_CHOLMOD) $(GTEST_SOURCE) \
+	      -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PYTHON=OFF -DBDINTERP_SPRITE=OFF $(SOURCE_CHOLMOD) $(GTEST_SOURCE) \
 	      -DCMAKE_DISABLE_FIND_PACKAGE_OpenMP=ON
 	cmake --build $(BUILD)/windows -j $(JOBS) --target bdinterp_tests
 	$(WINE_ENV) $(WINE) $(BUILD)/windows/bdinterp_tests.exe

@@ -48,7 +48,7 @@ rm -rf "$OUT"/py3*  # relinked and re-bundled every time (bundling rewrites the 
 mkdir -p "$BUILDER/src" "$BUILDER/deps" "$BUILDER/deps5" "$BUILDER/suitesparse" "$BUILDER/out"
 build_one() {  # $1 = 311 | 313 | 314, $2 = Python include dirs (;-separated, chroot paths), $3 = pybind11's
   cat <<EOS
-cmake -S /src -B /out/cmake -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PORTABLE=ON -DBDINTERP_TESTS=OFF \
+cmake -S /src -B /out/cmake -DCMAKE_BUILD_TYPE=Release -DBDINTERP_PORTABLE=ON -DBDINTERP_TESTS=OFF -DBDINTERP_SPRITE=ON \
   -DEigen3_DIR=/deps/usr/share/eigen3/cmake -DBDINTERP_PYBIND11_INCLUDE_DIR=$3 \
   -DBDINTERP_SUITESPARSE_SOURCE=/suitesparse \
   -DBDINTERP_PYTHON_INCLUDE_DIR="$2" -DBDINTERP_PYTHON_EXT_SUFFIX=.cpython-$1-x86_64-linux-gnu.so \

@@ -21,7 +21,7 @@ set -e
 echo "test-toolchain: $(dpkg-query -W -f='${Package} ${Version}; ' libeigen3-dev libsuitesparse-dev \
   pybind11-dev python3-numpy python3)"
 rm -rf /bdi-py && mkdir -p /bdi-py && cp -r /src/python/bdinterp /bdi-py/ && rm -f /bdi-py/bdinterp/_core*.so
-cmake -S /src -B /bdi-build -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 \
+cmake -S /src -B /bdi-build -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=/usr/bin/python3 -DBDINTERP_SPRITE=OFF \
   -DBDINTERP_PYTHON_OUTPUT_DIR=/bdi-py/bdinterp >/bdi-cmake.log 2>&1 || { tail -40 /bdi-cmake.log; exit 1; }
 cmake --build /bdi-build -j "${JOBS:-2}" >>/bdi-cmake.log 2>&1 || { tail -40 /bdi-cmake.log; exit 1; }
 cd /bdi-build && { ctest --output-on-failure -j "${JOBS:-2}" >/bdi-ctest.log 2>&1 || { cat /bdi-ctest.log; exit 1; }; }

@@ -3,7 +3,7 @@
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
 Modules import one way: core (loader) -> names, timing, mesh_io -> solve (shapes -> frames, no
-writes) -> playback, live, distortion, baking (each writes one kind of thing) -> character
+writes) -> playback, live, distortion, sprite_mesh, baking (each writes one kind of thing) -> character
 (several objects baked as one) -> api (the scripting facade) -> properties, operators -> ui ->
 this file (registration).
 """
@@ -11,7 +11,8 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "export", "character", "api", "properties", "operators", "ui"):
+                  "baking", "export", "character", "sprite_mesh", "layered_import", "api", "properties",
+                  "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -38,9 +39,12 @@ alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
+from .sprite_mesh import mesh_from_image  # noqa: E402
+from .layered_import import import_layered  # noqa: E402
 
-__all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend", "clear", "compute_frames", "set_live", "show_distortion",
-           "hide_distortion", "BakeError", "load_core", "core_status", "build_info"]
+__all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
+           "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
+           "mesh_from_image", "import_layered", "load_core", "core_status", "build_info"]
 
 _modules = []
 
@@ -55,8 +59,8 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, operators, live as live_mod
-        _modules = [properties, operators, ui, live_mod]
+        from . import properties, operators, live as live_mod, sprite_mesh, layered_import
+        _modules = [properties, operators, ui, live_mod, sprite_mesh, layered_import]
     for mod in _modules:
         mod.register()
 

@@ -17,5 +17,8 @@ void bind_stats(py::module_& m);
 void bind_interpolator(py::module_& m);
 void bind_distortion(py::module_& m);
 void bind_baselines(py::module_& m);
+#ifdef BDINTERP_SPRITE
+void bind_sprite(py::module_& m);  // the sprite mesher, where built with CGAL
+#endif
 
 }  // namespace bdinterp::bindings

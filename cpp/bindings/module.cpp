@@ -43,6 +43,16 @@ PYBIND11_MODULE(_core, m) {
   bind_interpolator(m);
   bind_distortion(m);
   bind_baselines(m);
+#ifdef BDINTERP_SPRITE
+  bind_sprite(m);
+#endif
+  m.attr("has_sprite_mesher") = py::bool_(
+#ifdef BDINTERP_SPRITE
+      true
+#else
+      false
+#endif
+  );
 }
 
 }  // namespace bdinterp::bindings

@@ -7,7 +7,8 @@ import os
 from conftest import ROOT
 
 LAYERS = [["core", "names", "actions"], ["timing", "mesh_io"], ["solve"],
-          ["playback", "live", "distortion"], ["baking", "export"], ["character"], ["api"], ["properties", "operators"],
+          ["playback", "live", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
+          ["api"], ["properties", "operators"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 
