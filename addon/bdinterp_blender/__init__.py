@@ -11,7 +11,7 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "character", "api", "properties", "operators", "ui"):
+                  "baking", "character", "motion_trails", "api", "properties", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -38,9 +38,10 @@ alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 from .api import bake_live  # noqa: E402
+from .motion_trails import trails  # noqa: E402
 
 __all__ = ["bake", "bake_live", "blend", "clear", "compute_frames", "set_live", "show_distortion",
-           "hide_distortion", "BakeError", "load_core", "core_status", "build_info"]
+           "hide_distortion", "BakeError", "load_core", "core_status", "build_info", "trails"]
 
 _modules = []
 
