@@ -11,7 +11,8 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "character", "motion_trails", "api", "properties", "operators", "ui"):
+                  "baking", "character", "motion_trails", "api", "properties", "overlay", "onion",
+                  "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -56,8 +57,8 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, operators, live as live_mod
-        _modules = [properties, operators, ui, live_mod]
+        from . import properties, onion, operators, live as live_mod
+        _modules = [properties, onion, operators, ui, live_mod]
     for mod in _modules:
         mod.register()
 

@@ -15,7 +15,7 @@ class Path:
     objs (first: the one whose settings count), inp (solve.Inputs, world coordinates for a
     character), method, and the solver (a bdinterp.Interpolator for 'bdi', else None)."""
 
-    def __init__(self, obj, target=None, source=None):
+    def __init__(self, obj, target=None, source=None, with_solver=True):
         objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
         if not objs or objs[0] is None:
             raise BakeError("no object given")
@@ -37,8 +37,8 @@ class Path:
             path = props.anchor_path if props is not None else None
             self.inp = solve.Inputs(one, source, [target], anchor, path, tolerance, joints)
             members = [one]
-        self.objs = members
-        self.solver = self.inp.interpolator() if self.method == "bdi" else None
+        self.objs, self.found = members, None
+        self.solver = self.inp.interpolator() if self.method == "bdi" and with_solver else None
 
     @property
     def size(self):
@@ -55,9 +55,16 @@ class Path:
         return frames @ m[:3, :3].T + m[:3, 3]
 
     def frames(self, ts):
-        """(len(ts), n, 3) in-betweens at factors ts, world coordinates."""
-        # one chunk: the frames warm-started one from the next, as the core computes them alone
-        return self.world(solve.FrameJob(self.inp, ts, self.method, chunk=len(ts)).frames())
+        """(len(ts), n, 3) in-betweens at factors ts, world coordinates: one frames() call, each
+        frame warm-started from the one before, as the core computes them alone."""
+        if self.method != "bdi":
+            return self.world(solve.FrameJob(self.inp, ts, self.method, chunk=len(ts)).frames())
+        if self.solver is None:
+            self.solver = self.inp.interpolator()
+        try:
+            return self.world(self.solver.frames(list(ts)))
+        except ValueError as exc:
+            raise self.inp.explain(exc) from exc
 
     def vertices(self, vertices=None):
         """(k,) int64 vertex indices: `vertices` checked, or default_vertices()."""
@@ -75,10 +82,11 @@ class Path:
 
     def baked(self):
         """(keys (j, n, 3) world coordinates of the recorded bake's in-between keys, in order of
-        factor; the key names). Empty when the object has no bake of this source -> target."""
+        factor; the key names). Empty when the object has no bake of this source -> target.
+        Sets self.found (playback.Found of the bake, or None)."""
         import numpy as np
         inp, first = self.inp, self.objs[0]
-        found = playback.find(first, inp.names[0], inp.names[1])
+        found = self.found = playback.find(first, inp.names[0], inp.names[1])
         names = [n for n in (found.keys if found else []) if all(
             n in o.data.shape_keys.key_blocks for o in self.objs)]
         if not names:
