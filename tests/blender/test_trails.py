@@ -98,3 +98,39 @@ def test_bad_trail_requests_name_what_is_wrong(addon):
         addon.trails(obj, samples=1)
     with pytest.raises(addon.BakeError, match="no shape key named 'Nope'"):
         addon.trails(obj, target="Nope")
+
+
+def test_the_overlay_is_off_by_default_and_draws_the_frames_and_keys(addon, bd):
+    from bdinterp_blender import onion
+    view = bpy.context.scene.bdi_view
+    assert not view.ghosts and not view.trails
+    obj = bent_strip()
+    obj.matrix_world = Matrix.Translation((0.0, 0.0, 2.0)) @ Matrix.Rotation(0.7, 4, 'X')
+    addon.bake(obj, target="Bend", count=3)
+    obj.bdi.target = "Bend"
+    view.ghosts = view.trails = True
+    view.ghost_source, view.samples = 'BAKED', 5
+    ghosts = onion.build([obj], view)
+    names = ["Bend.bdi.025", "Bend.bdi.050", "Bend.bdi.075"]
+    keys = np.array([world(obj.matrix_world, read_key(obj, n)) for n in names])
+    assert ghosts.factors == [0.25, 0.5, 0.75]
+    assert np.abs(ghosts.shapes - keys).max() < 1e-12
+    v = onion.motion_trails.default_vertices(onion.motion_trails.Path(obj))
+    assert np.abs(ghosts.ticks - keys[:, v]).max() < 1e-12  # ticks: the baked keys on the trails
+    assert np.abs(ghosts.trails - addon.trails(obj, samples=5)).max() < 1e-12
+    assert np.abs(ghosts.chords - ghosts.trails[[0, -1]]).max() == 0.0
+    # the outline: every edge of the strip's border once (a 16 x 4 grid: 2 (16 + 4) edges)
+    assert len(ghosts.edges) == 40
+    view.ghost_source, view.step = 'FACTORS', 0.2
+    ghosts = onion.build([obj], view)
+    assert np.allclose(ghosts.factors, [0.2, 0.4, 0.6, 0.8])
+    expected = world(obj.matrix_world, core_frames(bd, [read_key(obj, "Basis"), read_key(obj, "Bend")],
+                                                   triangles(obj), ghosts.factors))
+    assert np.abs(ghosts.shapes - expected).max() < EXACT * 4
+    # selected vertices: none selected is an error the panel shows
+    view.trail_vertices = 'SELECTED'
+    obj.data.vertices.foreach_set("select", np.zeros(len(obj.data.vertices), dtype=bool))
+    with pytest.raises(addon.BakeError, match="no vertex selected"):
+        onion.build([obj], view)
+    obj.data.vertices[3].select = True
+    assert np.abs(onion.build([obj], view).trails - addon.trails(obj, vertices=[3], samples=5)).max() < 1e-12
