@@ -12,7 +12,7 @@ if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submod
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
                   "baking", "character", "motion_trails", "api", "properties", "overlay", "onion",
-                  "operators", "ui"):
+                  "drawing_bind", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -40,9 +40,11 @@ from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,
                   show_distortion, BakeError)
 from .api import bake_live  # noqa: E402
 from .motion_trails import trails  # noqa: E402
+from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
 
 __all__ = ["bake", "bake_live", "blend", "clear", "compute_frames", "set_live", "show_distortion",
-           "hide_distortion", "BakeError", "load_core", "core_status", "build_info", "trails"]
+           "hide_distortion", "BakeError", "load_core", "core_status", "build_info", "trails",
+           "bind_drawing", "unbind_drawing"]
 
 _modules = []
 
@@ -57,8 +59,8 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, onion, operators, live as live_mod
-        _modules = [properties, onion, operators, ui, live_mod]
+        from . import properties, onion, drawing_bind, operators, live as live_mod
+        _modules = [properties, onion, drawing_bind, operators, ui, live_mod]
     for mod in _modules:
         mod.register()
 
