@@ -196,10 +196,44 @@ def on_update(scene, depsgraph=None):
             update(obj, depsgraph)
 
 
+class BDINTERP_OT_bind_drawing(bpy.types.Operator):
+    """Bind the selected Grease Pencil objects' strokes to the active mesh: they follow its
+    in-betweens wherever it is shown (Unbind puts every point back where it was drawn)"""
+    bl_idname = "bdinterp.bind_drawing"
+    bl_label = "Bind Drawings"
+    bl_options = {'REGISTER', 'UNDO'}
+    unbind: bpy.props.BoolProperty(name="Unbind", default=False)
+
+    @classmethod
+    def poll(cls, context):
+        reason = why_not(None)
+        if reason.startswith("binding"):
+            cls.poll_message_set(reason)
+            return False
+        if not [o for o in context.selected_objects if o.type == 'GREASEPENCIL']:
+            cls.poll_message_set("Select Grease Pencil objects and, last, the mesh")
+            return False
+        return True
+
+    def execute(self, context):
+        gps = [o for o in context.selected_objects if o.type == 'GREASEPENCIL']
+        try:
+            for gp_obj in gps:
+                if self.unbind:
+                    unbind_drawing(gp_obj)
+                else:
+                    bind_drawing(gp_obj, context.object)
+        except (ValueError, RuntimeError) as exc:
+            self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        return {'FINISHED'}
+
+
 HANDLERS = (bpy.app.handlers.depsgraph_update_post, bpy.app.handlers.frame_change_post)
 
 
 def register():
+    bpy.utils.register_class(BDINTERP_OT_bind_drawing)
     for handlers in HANDLERS:
         handlers.append(on_update)
 
@@ -208,3 +242,4 @@ def unregister():
     for handlers in HANDLERS:
         if on_update in handlers:
             handlers.remove(on_update)
+    bpy.utils.unregister_class(BDINTERP_OT_bind_drawing)

@@ -281,5 +281,8 @@ def draw_settings(layout, context):
         row = col.row(align=True)
         row.prop(view, "chords", toggle=True)
         row.prop(view, "trail_color", text="")
+    row = layout.row(align=True)  # greyed out before Blender 4.3, the tooltip says why
+    row.operator("bdinterp.bind_drawing", icon='GREASEPENCIL')
+    row.operator("bdinterp.bind_drawing", text="", icon='X').unbind = True
     ghosts = _cache["ghosts"] if _cache["key"] is not None and (view.ghosts or view.trails) else None
     return ghosts.error if ghosts is not None and ghosts.error else ""

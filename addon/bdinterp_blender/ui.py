@@ -277,7 +277,8 @@ PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP
           BDINTERP_PT_live, BDINTERP_PT_distortion, BDINTERP_PT_view)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
 ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
-         'MOD_WARP', 'CHECKMARK', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER')  # every icon used above
+         'MOD_WARP', 'CHECKMARK', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER',
+         'GREASEPENCIL')  # every icon used above
 
 
 class degraded:

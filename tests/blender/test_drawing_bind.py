@@ -52,6 +52,7 @@ def expected(addon, gp_obj, obj):
 def test_binding_says_why_not_before_4_3(addon):
     with pytest.raises(addon.BakeError, match="needs Blender 4.3 or later"):
         addon.bind_drawing(None, None)
+    assert not bpy.ops.bdinterp.bind_drawing.poll()  # the panel's button greyed out
 
 
 @pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
