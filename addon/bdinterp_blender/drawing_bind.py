@@ -12,6 +12,7 @@ attributes of the drawings, so a saved file keeps working.
 import bpy
 from bpy.app.handlers import persistent
 
+from .character import _to_local, _to_world
 from .mesh_io import BakeError, triangles
 
 BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh object's name
@@ -105,18 +106,6 @@ def place(X, faces, tri, bary, height, rest_area):
     _, _, _, normal, area = _frames(X, faces[tri])  # noqa -- per point's own triangle
     pos = (bary[:, :, None] * X[faces[tri]]).sum(axis=1) + height[:, None] * normal
     return pos, np.sqrt(area / np.maximum(rest_area, 1e-300))
-
-
-def _to_world(obj, co):
-    import numpy as np
-    m = np.array(obj.matrix_world, dtype=np.float64)
-    return co @ m[:3, :3].T + m[:3, 3]
-
-
-def _to_local(obj, co):
-    import numpy as np
-    m = np.array(obj.matrix_world, dtype=np.float64)
-    return np.linalg.solve(m[:3, :3], (co - m[:3, 3]).T).T
 
 
 def bind_drawing(gp_obj, mesh_obj):
