@@ -11,8 +11,8 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "solve", "playback", "live", "distortion",
-                  "baking", "export", "character", "sprite_mesh", "layered_import", "api", "properties",
-                  "operators", "ui"):
+                  "baking", "export", "character", "sprite_mesh", "layered_import", "motion_trails", "api",
+                  "properties", "overlay", "onion", "drawing_bind", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -41,10 +41,13 @@ from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,
 from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
 from .sprite_mesh import mesh_from_image  # noqa: E402
 from .layered_import import import_layered  # noqa: E402
+from .motion_trails import trails  # noqa: E402
+from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
-           "mesh_from_image", "import_layered", "load_core", "core_status", "build_info"]
+           "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
+           "bind_drawing", "unbind_drawing"]
 
 _modules = []
 
@@ -59,8 +62,8 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, operators, live as live_mod, sprite_mesh, layered_import
-        _modules = [properties, operators, ui, live_mod, sprite_mesh, layered_import]
+        from . import properties, onion, drawing_bind, operators, live as live_mod, sprite_mesh, layered_import
+        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
     for mod in _modules:
         mod.register()
 

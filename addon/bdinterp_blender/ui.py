@@ -274,11 +274,24 @@ class BDINTERP_AP_preferences(bpy.types.AddonPreferences):
                 info.get("python", "?"), info.get("ext_suffix", "source checkout")), icon='CHECKMARK')
 
 
+class BDINTERP_PT_view(_Panel, bpy.types.Panel):
+    bl_label = "Onion Skins & Trails"
+    bl_parent_id = "BDINTERP_PT_main"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    def draw(self, context):
+        from . import onion
+        error = onion.draw_settings(self.layout, context)
+        if error:
+            draw_message(self.layout, error, width=wrap_width(context))
+
+
 PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP_PT_poses,
-          BDINTERP_PT_live, BDINTERP_PT_distortion)
+          BDINTERP_PT_live, BDINTERP_PT_distortion, BDINTERP_PT_view)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
 ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
-         'MOD_WARP', 'CHECKMARK', 'EXPORT')  # every icon used above
+         'MOD_WARP', 'CHECKMARK', 'EXPORT', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER',
+         'GREASEPENCIL')  # every icon used above
 
 
 class degraded:

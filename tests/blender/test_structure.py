@@ -6,9 +6,9 @@ import os
 
 from conftest import ROOT
 
-LAYERS = [["core", "names", "actions"], ["timing", "mesh_io"], ["solve"],
+LAYERS = [["core", "names", "actions", "overlay"], ["timing", "mesh_io"], ["solve"],
           ["playback", "live", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
-          ["api"], ["properties", "operators"],
+          ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 

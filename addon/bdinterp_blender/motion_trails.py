@@ -1,0 +1,131 @@
+"""Motion trails: the paths that vertices follow through the in-betweens, in world space.
+
+The points are the solver's frames (the in-betweens themselves, not a spline through them), for
+one object or a cut-out character of several objects solved as one (as a bake solves them).
+Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this computes.
+"""
+
+from . import character, mesh_io, playback, solve
+from .mesh_io import BakeError
+from .names import DEFAULT_TOLERANCE
+
+
+class Path:
+    """A validated source -> target interpolation of one object or character (its panel settings):
+    objs (first: the one whose settings count), inp (solve.Inputs, world coordinates for a
+    character), method, and the solver (a bdinterp.Interpolator for 'bdi', else None)."""
+
+    def __init__(self, obj, target=None, source=None, with_solver=True):
+        objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
+        if not objs or objs[0] is None:
+            raise BakeError("no object given")
+        props = getattr(objs[0], "bdi", None)
+        target = target or (props.target if props is not None else "")
+        if not target:
+            raise BakeError("%s: no target shape key chosen" % objs[0].name)
+        if source is None:
+            source = props.source if props is not None else None
+        self.method = props.method if props is not None else "bdi"
+        tolerance = props.tolerance if props is not None else DEFAULT_TOLERANCE
+        joints = props.joints if props is not None else True
+        members = character.members(objs, target) if len(objs) > 1 else objs
+        if len(members) > 1:
+            self.inp = character.CharacterInputs(members, source, target, "AUTO", tolerance, joints)
+        else:
+            one = members[0] if members else objs[0]
+            anchor = solve.anchor_choice(props) if props is not None else "AUTO"
+            path = props.anchor_path if props is not None else None
+            self.inp = solve.Inputs(one, source, [target], anchor, path, tolerance, joints)
+            members = [one]
+        self.objs, self.found = members, None
+        self.solver = self.inp.interpolator() if self.method == "bdi" and with_solver else None
+
+    @property
+    def size(self):
+        """Number of vertices (all objects' for a character)."""
+        return len(self.inp.shapes[0])
+
+    def world(self, frames):
+        """(k, n, 3) frames of inp (local coordinates of one object) in world coordinates."""
+        import numpy as np
+        frames = np.asarray(frames, dtype=np.float64)
+        if len(self.objs) > 1:
+            return frames  # a character is solved in world coordinates
+        m = np.array(self.objs[0].matrix_world, dtype=np.float64)
+        return frames @ m[:3, :3].T + m[:3, 3]
+
+    def frames(self, ts):
+        """(len(ts), n, 3) in-betweens at factors ts, world coordinates: one frames() call, each
+        frame warm-started from the one before, as the core computes them alone."""
+        if self.method != "bdi":
+            return self.world(solve.FrameJob(self.inp, ts, self.method, chunk=len(ts)).frames())
+        if self.solver is None:
+            self.solver = self.inp.interpolator()
+        try:
+            return self.world(self.solver.frames(list(ts)))
+        except ValueError as exc:
+            raise self.inp.explain(exc) from exc
+
+    def vertices(self, vertices=None):
+        """(k,) int64 vertex indices: `vertices` checked, or default_vertices()."""
+        import numpy as np
+        if vertices is None:
+            return default_vertices(self)
+        v = np.asarray(vertices, dtype=np.int64).ravel()
+        bad = v[(v < 0) | (v >= self.size)]
+        if len(bad):
+            raise BakeError("%s: %s does not exist (the mesh has %d vertices)"
+                            % (self.inp.obj_name, self.inp.vertex_name(int(bad[0])), self.size))
+        if not len(v):
+            raise BakeError("%s: no vertices given for trails" % self.inp.obj_name)
+        return v
+
+    def baked(self):
+        """(keys (j, n, 3) world coordinates of the recorded bake's in-between keys, in order of
+        factor; the key names). Empty when the object has no bake of this source -> target.
+        Sets self.found (playback.Found of the bake, or None)."""
+        import numpy as np
+        inp, first = self.inp, self.objs[0]
+        found = self.found = playback.find(first, inp.names[0], inp.names[1])
+        names = [n for n in (found.keys if found else []) if all(
+            n in o.data.shape_keys.key_blocks for o in self.objs)]
+        if not names:
+            return np.empty((0, self.size, 3)), []
+        frames = np.array([np.concatenate([character._to_world(o, mesh_io.read_co(
+            o.data.shape_keys.key_blocks[n])) for o in self.objs]) for n in names])
+        return frames, names
+
+
+def default_vertices(path):
+    """Each piece's vertex nearest its centroid, then, for every joint between pieces, the child
+    piece's vertex nearest the joint (the points an animator checks first), without repeats."""
+    import numpy as np
+    X = path.inp.shapes[0]
+    labels = np.asarray(path.inp.layers.labels)
+    out = []
+    for piece in np.unique(labels):
+        idx = np.flatnonzero(labels == piece)
+        centre = X[idx].mean(axis=0)
+        out.append(int(idx[np.argmin(np.linalg.norm(X[idx] - centre, axis=1))]))
+    for joint in (path.solver.joints() if path.solver is not None else []):
+        idx = np.flatnonzero(labels == labels[joint["child"]])
+        out.append(int(idx[np.argmin(np.linalg.norm(X[idx] - np.asarray(joint["point"]), axis=1))]))
+    return np.array(list(dict.fromkeys(out)), dtype=np.int64)
+
+
+def trails(obj, vertices=None, samples=33, target=None, source=None):
+    """The paths of `vertices` through the in-betweens: (samples, k, 3) world coordinates.
+
+    obj: a mesh object, or a list of them (those with the target key are solved as one cut-out
+    character, as a bake solves them; vertex indices then count the objects' vertices one after
+    the other).  Settings (target, source, anchor, method, joints) are obj's panel settings;
+    target/source override them.  vertices: indices (default: each piece's centre vertex and the
+    vertices at the joints between pieces).  Point i is the in-between at factor i/(samples-1),
+    the solver's frame itself.
+    """
+    import numpy as np
+    if int(samples) < 2:
+        raise BakeError("trails need at least 2 samples (got %d)" % int(samples))
+    path = Path(obj, target, source)
+    v = path.vertices(vertices)
+    return path.frames(np.linspace(0.0, 1.0, int(samples)))[:, v, :]

@@ -1,0 +1,288 @@
+"""Onion skins and motion trails of the in-betweens in the 3D viewport (settings: Scene.bdi_view).
+
+What is drawn is computed once (Ghosts: world coordinates of the ghost shapes, the trails, the
+ticks at the baked keys) and kept in GPU batches (overlay.py); a redraw compares a cheap request
+key (objects, settings, transforms, an epoch bumped when the input or baked keys' data change)
+and only recolours.  The depsgraph handler re-reads key data only when Blender reports a shape key
+edited, so playback and live mode never pay for it.
+"""
+
+import hashlib
+import time
+from collections import deque
+
+import bpy
+from bpy.app.handlers import persistent
+from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty
+
+from . import motion_trails, mesh_io
+from .names import LIVE_KEY, SEP
+
+
+def _redraw(self=None, context=None):
+    for window in getattr(bpy.context.window_manager, "windows", ()):
+        for area in window.screen.areas:
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+
+def _color(name, default):
+    return FloatVectorProperty(name=name, subtype='COLOR', size=3, min=0.0, max=1.0,
+                               default=default, update=_redraw)
+
+
+class BDI_ViewProps(bpy.types.PropertyGroup):
+    ghosts: BoolProperty(name="Onion Skins", default=False, update=_redraw,
+                         description="Draw ghosts of the in-betweens of the active object or character")
+    ghost_source: EnumProperty(name="Ghosts", update=_redraw, items=[
+        ('FACTORS', "Factors", "The exact in-betweens at every Step (computed, also in live mode)"),
+        ('BAKED', "Baked Keys", "The baked in-between keys as stored")])
+    step: FloatProperty(name="Step", default=0.25, min=0.02, max=0.5, update=_redraw,
+                        description="Factor between two ghosts")
+    opacity: FloatProperty(name="Opacity", default=0.8, min=0.0, max=1.0, update=_redraw,
+                           subtype='FACTOR')
+    before_color: _color("Before", (0.25, 0.55, 1.0))
+    after_color: _color("After", (1.0, 0.45, 0.15))
+    trails: BoolProperty(name="Motion Trails", default=False, update=_redraw,
+                         description="Draw the paths of vertices through the in-betweens")
+    trail_vertices: EnumProperty(name="Vertices", update=_redraw, items=[
+        ('DEFAULT', "Centres and Joints", "Each piece's centre and the joints between pieces"),
+        ('SELECTED', "Selected", "The vertices selected in Edit Mode")])
+    samples: IntProperty(name="Samples", default=33, min=2, max=257, update=_redraw)
+    chords: BoolProperty(name="Linear Chords", default=False, update=_redraw,
+                         description="Draw beside each trail the straight path of a linear blend")
+    trail_color: _color("Trail", (1.0, 0.85, 0.2))
+
+
+class Ghosts:
+    """Everything the overlay draws, world coordinates: shapes (j, n, 3) at factors (j,), faces
+    (m, 3), outline edges (e, 2), trails (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider
+    (owner object name, property) whose value is the current factor; an error message."""
+
+    def __init__(self, **kw):
+        import numpy as np
+        empty = np.empty((0, 0, 3))
+        self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
+        self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
+        self.slider, self.error = None, ""
+        self.__dict__.update(kw)
+
+
+def drawn_objects(context):
+    """The active mesh with a target set, then the selected meshes that have its target key (a
+    character, as a bake solves it); [] when there is nothing to draw."""
+    obj = context.object
+    if obj is None or obj.type != 'MESH' or not hasattr(obj, "bdi") or not obj.bdi.target:
+        return []
+    if obj.mode == 'EDIT' or obj.data.shape_keys is None:
+        return []
+    others = sorted((o for o in context.selected_objects if o.type == 'MESH' and o != obj),
+                    key=lambda o: o.name)
+    from .character import members
+    return [obj] + [o for o in members(others, obj.bdi.target)]
+
+
+def _factor_of(name):
+    """0.5 of 'Arm.bdi.050' (the factor is in the key's name), None if it is not in it."""
+    try:
+        return float(name.rsplit(SEP, 1)[1]) / 100.0
+    except (IndexError, ValueError):
+        return None
+
+
+def outline(faces):
+    """(e, 2) the edges of `faces` that bound only one triangle: each piece's outline."""
+    import numpy as np
+    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
+    unique, counts = np.unique(edges, axis=0, return_counts=True)
+    return unique[counts == 1]
+
+
+def selected_vertices(objs):
+    """Indices (across the objects, one after the other) of their selected vertices."""
+    import numpy as np
+    out, offset = [], 0
+    for obj in objs:
+        sel = np.zeros(len(obj.data.vertices), dtype=bool)
+        obj.data.vertices.foreach_get("select", sel)
+        out.append(np.flatnonzero(sel) + offset)
+        offset += len(sel)
+    return np.concatenate(out)
+
+
+def build(objs, view):
+    """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view)."""
+    import numpy as np
+    solve_needed = view.trails or view.ghost_source == 'FACTORS'
+    path = motion_trails.Path(objs, with_solver=solve_needed)
+    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces))
+    baked, names = path.baked()
+    if path.found is not None:
+        out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
+    if view.ghosts and view.ghost_source == 'BAKED':
+        factors = [_factor_of(n) for n in names]
+        if None in factors:  # names not made by a bake: evenly spaced
+            factors = list(np.arange(1, len(names) + 1) / (len(names) + 1.0))
+        out.shapes, out.factors = baked, factors
+    elif view.ghosts:
+        ts = np.arange(view.step, 1.0 - 1e-9, view.step)
+        out.shapes, out.factors = path.frames(ts), list(ts)
+    if view.trails:
+        v = None
+        if view.trail_vertices == 'SELECTED':
+            v = selected_vertices(path.objs)
+            if not len(v):
+                raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
+        v = path.vertices(v)
+        out.trails = path.frames(np.linspace(0.0, 1.0, view.samples))[:, v]
+        out.ticks = baked[:, v]
+        out.chords = out.trails[[0, -1]]
+    return out
+
+
+def request_key(objs, view):
+    """What the Ghosts depend on, cheap enough to compare on every redraw."""
+    props = objs[0].bdi
+    settings = (props.source, props.target, props.method, props.anchor, props.anchor_vertex,
+                props.anchor_group, props.tolerance, props.joints, props.live_mode,
+                view.ghosts, view.ghost_source, view.step, view.trails, view.trail_vertices,
+                view.samples)
+    return (tuple(o.name for o in objs), settings, _epoch[0],
+            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs))
+
+
+_epoch = [0]        # bumped when the data of a drawn object's keys change
+_signatures = {}    # object name -> hash of its keys' data (but the live key)
+_cache = {"key": None, "ghosts": None, "batches": None}
+
+
+def key_signature(obj):
+    key = obj.data.shape_keys
+    h = hashlib.sha1()
+    for kb in key.key_blocks if key else ():
+        if kb.name != LIVE_KEY:
+            h.update(kb.name.encode())
+            h.update(mesh_io.read_raw(kb).tobytes())
+    return h.hexdigest()
+
+
+def current(context):
+    """(objs, Ghosts or None, GPU batches or None) for the context, rebuilt if the request changed."""
+    from . import overlay
+    view = context.scene.bdi_view
+    objs = drawn_objects(context) if (view.ghosts or view.trails) else []
+    if not objs:
+        return objs, None, None
+    key = request_key(objs, view)
+    if _cache["key"] != key:
+        _cache["key"], _cache["batches"] = key, None
+        for o in objs:
+            _signatures[o.name] = key_signature(o)
+        try:
+            _cache["ghosts"] = build(objs, view)
+            _cache["batches"] = overlay.batches(_cache["ghosts"])
+        except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
+            _cache["ghosts"] = Ghosts(error=str(exc))
+    return objs, _cache["ghosts"], _cache["batches"]
+
+
+def now_factor(objs, ghosts):
+    """The factor shown now: the live factor in live mode, else the bake's slider (0 without)."""
+    props = objs[0].bdi
+    if props.live and props.live_mode == 'INTERPOLATE':
+        return props.live_factor
+    if ghosts.slider is not None:
+        owner = bpy.data.objects.get(ghosts.slider[0])
+        return float(owner.get(ghosts.slider[1], 0.0)) if owner is not None else 0.0
+    return 0.0
+
+
+# Seconds of the last redraws that drew something (rebuilds included), for the benchmark.
+timings = deque(maxlen=512)
+
+
+def draw_callback():
+    from . import overlay
+    started = time.perf_counter()
+    context = bpy.context
+    if getattr(context.scene, "bdi_view", None) is None:
+        return
+    objs, ghosts, batches = current(context)
+    if batches is not None:
+        overlay.draw(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts))
+        timings.append(time.perf_counter() - started)
+
+
+@persistent
+def on_depsgraph_update(scene, depsgraph):
+    """A drawn object's keys edited (not the live key alone): bump the epoch, so the next redraw
+    rebuilds."""
+    names = _cache["key"][0] if _cache["key"] else ()
+    for update in depsgraph.updates:
+        obj_id = update.id.original
+        if isinstance(obj_id, bpy.types.Key) and update.is_updated_geometry:
+            for name in names:
+                obj = bpy.data.objects.get(name)
+                if obj is not None and obj.data.shape_keys == obj_id \
+                        and _signatures.get(name) != key_signature(obj):
+                    _epoch[0] += 1
+                    return
+
+
+@persistent
+def on_load(*_args):
+    _cache.update(key=None, ghosts=None, batches=None)
+    _signatures.clear()
+
+
+_handle = []
+
+
+def register():
+    bpy.utils.register_class(BDI_ViewProps)
+    bpy.types.Scene.bdi_view = bpy.props.PointerProperty(type=BDI_ViewProps)
+    _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
+    bpy.app.handlers.depsgraph_update_post.append(on_depsgraph_update)
+    bpy.app.handlers.load_post.append(on_load)
+
+
+def unregister():
+    for handle in _handle:
+        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    _handle.clear()
+    for handlers, fn in ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
+                         (bpy.app.handlers.load_post, on_load)):
+        if fn in handlers:
+            handlers.remove(fn)
+    on_load()
+    del bpy.types.Scene.bdi_view
+    bpy.utils.unregister_class(BDI_ViewProps)
+
+
+def draw_settings(layout, context):
+    """The panel's Onion Skins & Trails section (ui.BDINTERP_PT_view)."""
+    view = context.scene.bdi_view
+    row = layout.row(align=True)
+    row.prop(view, "ghosts", toggle=True, icon='ONIONSKIN_ON' if view.ghosts else 'ONIONSKIN_OFF')
+    row.prop(view, "trails", toggle=True, icon='IPO_BEZIER')
+    if view.ghosts:
+        col = layout.column(align=True)
+        col.prop(view, "ghost_source", expand=True)
+        if view.ghost_source == 'FACTORS':
+            col.prop(view, "step")
+        col.prop(view, "opacity", slider=True)
+        row = col.row(align=True)
+        row.prop(view, "before_color", text="")
+        row.prop(view, "after_color", text="")
+    if view.trails:
+        col = layout.column(align=True)
+        col.prop(view, "trail_vertices", text="")
+        col.prop(view, "samples")
+        row = col.row(align=True)
+        row.prop(view, "chords", toggle=True)
+        row.prop(view, "trail_color", text="")
+    row = layout.row(align=True)  # greyed out before Blender 4.3, the tooltip says why
+    row.operator("bdinterp.bind_drawing", icon='GREASEPENCIL')
+    row.operator("bdinterp.bind_drawing", text="", icon='X').unbind = True
+    ghosts = _cache["ghosts"] if _cache["key"] is not None and (view.ghosts or view.trails) else None
+    return ghosts.error if ghosts is not None and ghosts.error else ""

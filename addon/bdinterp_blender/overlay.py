@@ -1,0 +1,79 @@
+"""GPU drawing of onion.Ghosts with Blender's gpu module: the batches are made once per Ghosts and
+only coloured per redraw (a ghost's tint follows its distance in factor from the shown shape)."""
+
+import gpu
+from gpu_extras.batch import batch_for_shader
+
+_shader = []
+
+
+def shader():
+    """The built-in uniform-colour shader (named '3D_UNIFORM_COLOR' before Blender 4.0)."""
+    if not _shader:
+        try:
+            _shader.append(gpu.shader.from_builtin('UNIFORM_COLOR'))
+        except (ValueError, TypeError):
+            _shader.append(gpu.shader.from_builtin('3D_UNIFORM_COLOR'))
+    return _shader[0]
+
+
+def _segments(paths):
+    """(s, k, 3) polylines -> (2 (s-1) k, 3) endpoints of their segments, for a LINES batch."""
+    import numpy as np
+    a, b = paths[:-1], paths[1:]
+    return np.stack([a, b], axis=2).reshape(-1, 3)
+
+
+def batches(ghosts):
+    """{'fills': [...], 'outlines': [...], 'trails', 'ticks', 'chords'} GPU batches of `ghosts`."""
+    import numpy as np
+    sh = shader()
+    faces = np.ascontiguousarray(ghosts.faces, dtype=np.int32)
+    edges = np.ascontiguousarray(ghosts.edges, dtype=np.int32)
+    out = {"fills": [], "outlines": [], "trails": None, "ticks": None, "chords": None}
+    for shape in ghosts.shapes:
+        pos = np.ascontiguousarray(shape, dtype=np.float32)
+        out["fills"].append(batch_for_shader(sh, 'TRIS', {"pos": pos}, indices=faces))
+        out["outlines"].append(batch_for_shader(sh, 'LINES', {"pos": pos}, indices=edges))
+    if ghosts.trails.size:
+        out["trails"] = batch_for_shader(sh, 'LINES', {"pos": _segments(ghosts.trails).astype(np.float32)})
+        out["chords"] = batch_for_shader(sh, 'LINES', {"pos": _segments(ghosts.chords).astype(np.float32)})
+        if ghosts.ticks.size:
+            out["ticks"] = batch_for_shader(sh, 'POINTS', {"pos": ghosts.ticks.reshape(-1, 3).astype(np.float32)})
+    return out
+
+
+def tint(view, factor, now):
+    """(r, g, b, strength) of a ghost at `factor` when the shape shown is at `now`: the Before or
+    After colour, stronger the nearer it is."""
+    colour = view.before_color if factor < now else view.after_color
+    strength = view.opacity * max(0.15, 1.0 - abs(factor - now))
+    return (colour[0], colour[1], colour[2], strength)
+
+
+def draw(batch_set, ghosts, view, now):
+    """Draw the batches (POST_VIEW: world coordinates) over the scene, blended."""
+    sh = shader()
+    gpu.state.blend_set('ALPHA')
+    gpu.state.depth_test_set('NONE')
+    sh.bind()
+    for fill, edges, factor in zip(batch_set["fills"], batch_set["outlines"], ghosts.factors):
+        r, g, b, a = tint(view, factor, now)
+        sh.uniform_float("color", (r, g, b, 0.18 * a))
+        fill.draw(sh)
+        sh.uniform_float("color", (r, g, b, a))
+        edges.draw(sh)
+    if batch_set["trails"] is not None:
+        gpu.state.line_width_set(2.0)
+        trail = tuple(view.trail_color)
+        if view.chords:
+            sh.uniform_float("color", (0.75, 0.75, 0.75, 0.6))
+            batch_set["chords"].draw(sh)
+        sh.uniform_float("color", trail + (1.0,))
+        batch_set["trails"].draw(sh)
+        if batch_set["ticks"] is not None:
+            gpu.state.point_size_set(7.0)
+            batch_set["ticks"].draw(sh)
+            gpu.state.point_size_set(1.0)
+        gpu.state.line_width_set(1.0)
+    gpu.state.blend_set('NONE')

@@ -1,0 +1,183 @@
+"""Onion skins and motion trails in a real Blender window: screenshots, ghost pixels, redraw cost.
+
+    xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --python \\
+        examples/blender/onion_screenshot.py -- [--scene one|seven|grid:VERTICES] [--live] \\
+        [--ghosts FACTORS|BAKED] [--chords] [--out shot.png] [--redraws 50]
+
+Scenes: examples/cutout's character as one object or as seven objects (its slider at 0, so every
+ghost lies after the shown shape), or a bent grid of about VERTICES vertices (the benchmark).
+--live: live mode at factor 0.5 instead of a bake.  Draws the viewport (top view) without and
+with the overlay, and prints 'JSON:{...}': where the 0.75 ghost's triangles project (region
+pixels, only those on empty background without the overlay) and the colour change there, the
+same at empty corners, the overlay's draw times (first: the rebuild; then cached redraws) and
+the region's redraw time without and with the overlay.
+"""
+
+import json
+import math
+import os
+import sys
+import time
+import traceback
+
+import bpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, HERE)
+sys.path.insert(0, os.path.join(HERE, "..", "cutout"))
+ARGS = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def arg(name, default=None):
+    return ARGS[ARGS.index(name) + 1] if name in ARGS else default
+
+
+def grid(vertices):
+    """A strip of about `vertices` vertices (2:1) with the key 'Pose': bent by 120 degrees."""
+    ny = max(2, int(math.sqrt(vertices / 2.0)))
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=2 * ny, y_subdivisions=ny, size=2.0)
+    obj = bpy.context.object
+    obj.scale = (1.0, 0.5, 1.0)
+    bpy.ops.object.transform_apply(scale=True)
+    obj.shape_key_add(name="Basis", from_mix=False)
+    mod = obj.modifiers.new("Bend", 'SIMPLE_DEFORM')
+    mod.deform_method, mod.deform_axis, mod.angle = 'BEND', 'Z', math.radians(120)
+    bpy.ops.object.modifier_apply_as_shapekey(modifier="Bend")
+    obj.data.shape_keys.key_blocks["Bend"].name = "Pose"
+    return [obj]
+
+
+def scene(addon):
+    import cutout_blender as cb
+    import cutout_character as cc
+    for o in list(bpy.data.objects):  # the startup scene's cube, camera and light
+        bpy.data.objects.remove(o)
+    kind = arg("--scene", "one")
+    if kind.startswith("grid:"):
+        objs = grid(int(kind[5:]))
+    elif kind == "seven":
+        objs = cb.seven_objects(cc.character()[0])
+    else:
+        objs = [cb.one_object(cc.character()[0])[0]]
+    for o in objs:
+        o.select_set(True)
+    obj = bpy.context.view_layer.objects.active = objs[0]
+    obj.bdi.target, obj.bdi.count = "Pose", 3
+    if "--live" in ARGS:
+        addon.set_live(obj, target="Pose", factor=0.5)
+    else:
+        addon.bake(objs, target="Pose", count=3)
+    view = bpy.context.scene.bdi_view
+    view.ghost_source = arg("--ghosts", "FACTORS")
+    view.chords = "--chords" in ARGS
+    return objs
+
+
+def view3d():
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == 'VIEW_3D'), key=lambda a: a.width)
+    return window, area, next(r for r in area.regions if r.type == 'WINDOW')
+
+
+def shot(path):
+    """Screenshot of the 3D view's area: (pixels (h, w, 4) float, (area x, area y))."""
+    import numpy as np
+    window, area, _ = view3d()
+    with bpy.context.temp_override(window=window, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    img = bpy.data.images.load(path, check_existing=False)
+    w, h = img.size
+    px = np.empty(w * h * 4, dtype=np.float32)
+    img.pixels.foreach_get(px)
+    bpy.data.images.remove(img)
+    return px.reshape(h, w, 4), (area.x, area.y)
+
+
+def ghost_pixels(ghosts, factor=0.75):
+    """Region pixel positions of the triangle centroids of the ghost at `factor`."""
+    import numpy as np
+    from bpy_extras.view3d_utils import location_3d_to_region_2d
+    _, area, region = view3d()
+    i = int(np.argmin(np.abs(np.array(ghosts.factors) - factor)))
+    centres = ghosts.shapes[i][ghosts.faces].mean(axis=1)
+    rv3d = area.spaces.active.region_3d
+    pts = [location_3d_to_region_2d(region, rv3d, c) for c in centres[:: max(1, len(centres) // 400)]]
+    return [(int(p.x) + region.x, int(p.y) + region.y) for p in pts if p is not None
+            and 2 <= p.x < region.width - 2 and 2 <= p.y < region.height - 2]
+
+
+def redraw_seconds(iterations):
+    window, area, region = view3d()
+    started = time.perf_counter()
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.wm.redraw_timer(type='DRAW', iterations=iterations)
+    return (time.perf_counter() - started) / iterations
+
+
+def steps(addon, out):
+    """Generator driven by a timer: each yield lets Blender draw once."""
+    import numpy as np
+    from bdinterp_blender import onion
+    objs = scene(addon)
+    window, area, region = view3d()
+    area.spaces.active.overlay.show_floor = False
+    with bpy.context.temp_override(window=window, area=area, region=region):
+        bpy.ops.view3d.view_axis(type='TOP')
+        bpy.ops.view3d.view_all()
+    yield
+    redraws = int(arg("--redraws", "30"))
+    out["redraw_off"] = redraw_seconds(redraws)
+    base, (ax, ay) = shot(os.path.abspath(arg("--out", "/tmp/onion.png")) + ".off.png")
+    view = bpy.context.scene.bdi_view
+    view.ghosts = view.trails = True
+    onion.timings.clear()
+    yield
+    yield
+    ghosts = onion._cache["ghosts"]
+    out["error"] = ghosts.error if ghosts is not None else "no ghosts built"
+    out["redraw_on"] = redraw_seconds(redraws)
+    times = list(onion.timings)
+    out["draw_first"], out["draw_cached"] = times[0], sorted(times[1:])[len(times) // 2 - 1]
+    out["draw_cached_max"] = max(times[1:])
+    out["vertices"] = sum(len(o.data.vertices) for o in objs)
+    img, _ = shot(os.path.abspath(arg("--out", "/tmp/onion.png")))
+    pts = [(x - ax, y - ay) for x, y in ghost_pixels(ghosts)]
+    background = np.median(base[:, :, :3].reshape(-1, 3), axis=0)
+    empty = [(x, y) for x, y in pts if abs(base[y, x, :3] - background).max() < 0.01]
+    out["ghost_points"] = len(empty)
+    out["ghost_change"] = [[float(c) for c in img[y, x, :3] - base[y, x, :3]] for x, y in empty]
+    h, w = img.shape[:2]
+    corners = [(8, h // 2), (w - 8, h // 2)]
+    out["corner_change"] = max(float(abs(img[y, x, :3] - base[y, x, :3]).max()) for x, y in corners)
+    out["factors"] = list(map(float, ghosts.factors))
+    out["trails"] = list(ghosts.trails.shape)
+
+
+def main():
+    out = {}
+    try:
+        import addon_loader
+        addon = addon_loader.enable()
+        bpy.context.preferences.view.show_splash = False
+        gen = steps(addon, out)
+    except Exception:  # noqa: BLE001 -- report and quit instead of leaving a window open
+        print("JSON:" + json.dumps({"error": traceback.format_exc()}), flush=True)
+        bpy.ops.wm.quit_blender()
+        return
+
+    def tick():
+        try:
+            next(gen)
+            return 0.3
+        except StopIteration:
+            pass
+        except Exception:  # noqa: BLE001 -- report and quit instead of hanging the window
+            out["error"] = traceback.format_exc()
+        print("JSON:" + json.dumps(out), flush=True)
+        bpy.ops.wm.quit_blender()
+        return None
+
+    bpy.app.timers.register(tick, first_interval=1.0)
+
+
+main()
