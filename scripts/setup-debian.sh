@@ -1,19 +1,30 @@
 #!/usr/bin/env bash
-# Installs every Debian 12 package bdinterp needs to build, test and run (idempotent; needs root or sudo).
+# Installs the Debian 12 packages bdinterp needs (idempotent; needs root or sudo).
+#   scripts/setup-debian.sh        everything: build, test and run on every target (`make setup`)
+#   scripts/setup-debian.sh demo   only what `make demo` needs: the host module and Blender 3.4
 set -euo pipefail
-packages=(
-  build-essential cmake pkg-config
+demo=(
+  build-essential cmake
   libsuitesparse-dev libeigen3-dev libopenblas0-pthread   # CHOLMOD (fast BLAS for its supernodal path), Eigen
-  libgtest-dev libbenchmark-dev                           # C++ tests and benchmarks
-  python3-dev python3-pip python3-setuptools python3-pybind11 pybind11-dev
-  python3-numpy python3-scipy python3-matplotlib python3-pytest
+  python3-dev pybind11-dev python3-numpy                  # the compiled module for /usr/bin/python3
   blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
+)
+rest=(
+  pkg-config
+  libgtest-dev libbenchmark-dev                           # C++ tests and benchmarks
+  python3-pip python3-setuptools python3-pybind11
+  python3-scipy python3-matplotlib python3-pytest
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
   xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
   clang libclang-rt-14-dev                                # fuzz targets (libFuzzer) and the ASan/UBSan test build
   g++-mingw-w64-x86-64-posix wine64 googletest            # make test-windows: MinGW-w64 cross build, Wine, GoogleTest source
   libc++-dev libc++abi-dev                                # make test-libcxx: clang with libc++ (Apple's C++ library)
 )
+case "${1:-all}" in
+  demo) packages=("${demo[@]}") ;;
+  all)  packages=("${demo[@]}" "${rest[@]}") ;;
+  *) echo "usage: $0 [demo]" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
