@@ -138,7 +138,7 @@ TEST(Parallel, OtherProgramsAreCountedBesideAnAwakeWorker) {
   // Twice as many spinning processes as cores, beside one spinning thread of this process (as an
   // awake pool worker): every sample after the first window counts the others on all cores but
   // one at least. Windows and macOS count busy cores; there the pool's own threads used to hide
-  // the others (issue #22: the capped busy-core count minus this process's awake threads read 0).
+  // the others (the capped busy-core count minus this process's awake threads read 0).
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
   const testing::Competitors others(2 * cores);
   std::atomic<bool> stop{false};
