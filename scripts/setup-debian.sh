@@ -7,7 +7,7 @@ demo=(
   build-essential cmake
   libsuitesparse-dev libeigen3-dev libopenblas0-pthread   # CHOLMOD (fast BLAS for its supernodal path), Eigen
   python3-dev pybind11-dev python3-numpy                  # the compiled module for /usr/bin/python3
-  blender                                                 # the add-on's host (Debian's 3.4.1, Python 3.11)
+  blender libegl1 libegl-mesa0                            # the add-on's host (Debian's 3.4.1, Python 3.11), headless rendering
 )
 rest=(
   pkg-config
