@@ -246,23 +246,6 @@ TEST(Parallel, LoopsOfAKnownSmallSizeRunOnTheCaller) {
   EXPECT_EQ(ran[1], std::this_thread::get_id());
 }
 
-TEST(Parallel, OnlyRepeatedLateChunksMakeThePoolBackOff) {
-  parallel::detail::LateMean m;
-  EXPECT_FALSE(m.add(true));  // one late job (an idle VM's hiccup): 0.125
-  for (int k = 0; k < 8; ++k) EXPECT_FALSE(m.add(false));
-  EXPECT_FALSE(m.add(true));  // again, long after: 0.17
-  EXPECT_TRUE(m.add(true));   // two in a row: 0.27, back off
-  EXPECT_FALSE(m.add(false)); // an on-time job never backs off
-  // Hiccups at the measured idle rate (~1 in 250 jobs) never trigger it.
-  parallel::detail::LateMean idle;
-  for (int k = 0; k < 5000; ++k) EXPECT_FALSE(idle.add(k % 250 == 0));
-  // Every third job late (a CPU quota the runnable count does not show) does.
-  parallel::detail::LateMean quota;
-  bool backed_off = false;
-  for (int k = 0; k < 30; ++k) backed_off |= quota.add(k % 3 == 0);
-  EXPECT_TRUE(backed_off);
-}
-
 TEST(Parallel, CpuQuotasInCores) {
   EXPECT_EQ(parallel::detail::quota_cores("max 100000"), 0);
   EXPECT_EQ(parallel::detail::quota_cores("-1 100000"), 0);  // cgroup v1: no quota
