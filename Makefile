@@ -12,7 +12,7 @@ export BDI_CHROOTS ?= $(CURDIR)/$(PORTABLE)/chroots
 EXTENSION_ZIP = dist/bdinterp_blender-$(VERSION)-extension.zip
 LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 
-.PHONY: setup build install portable addon demo test test-cpp test-python test-blender \
+.PHONY: setup setup-demo build install portable addon demo test test-cpp test-python test-blender \
         test-blender-43 test-blender-52 test-runtime test-toolchain-sid test-wheel gallery bench clean \
         suitesparse test-cholmod-source test-windows test-libcxx test-wheel-source test-extension-split \
         bench-cholmod-source
@@ -20,9 +20,14 @@ LEGACY_ZIP    = dist/bdinterp_blender-$(VERSION)-legacy-py311.zip
 setup:            ## install Debian packages (apt)
 	bash scripts/setup-debian.sh
 
+setup-demo:       ## install only the Debian packages `make demo` needs (apt)
+	bash scripts/setup-debian.sh demo
+
+# The host build: the C++ library (+ its tests) and the in-tree Python module python/bdinterp/_core.
+CONFIGURE = cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) \
+            -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
 build: setup      ## C++ library, tests and the in-tree Python module
-	cmake -S . -B $(BUILD) -DCMAKE_BUILD_TYPE=Release -DPython_EXECUTABLE=$(PYTHON) -DBDINTERP_SPRITE=ON \
-	      -DBDINTERP_PYTHON_OUTPUT_DIR=$(CURDIR)/python/bdinterp
+	$(CONFIGURE) -DBDINTERP_TESTS=ON -DBDINTERP_SPRITE=ON
 	cmake --build $(BUILD) -j $(JOBS)
 
 install: setup    ## the Python package bdinterp (with its compiled module) for /usr/bin/python3
@@ -34,8 +39,12 @@ portable: setup   ## the shipped _core modules (CPython 3.11, 3.13, 3.14; linux-
 addon: portable   ## dist/: legacy zip, extension zip, wheels; prints the .so audit table
 	$(PYTHON) scripts/build_addon.py --portable $(PORTABLE)
 
-demo: addon install ## the main job: bake in-betweens of an example into out/example.blend + pictures
-	$(BLENDER) --background --factory-startup --python-exit-code 1 --python scripts/bake_example.py -- --out out
+# The demo runs on the host build (addon/ and python/ of this checkout), not on the shipped zips.
+demo: setup-demo  ## the main job: bake in-betweens of an example into out/example.blend + pictures
+	$(CONFIGURE) -DBDINTERP_TESTS=OFF
+	cmake --build $(BUILD) -j $(JOBS) --target _core
+	$(BLENDER) --background --factory-startup --python-exit-code 1 --python scripts/bake_example.py \
+	    -- --out out --core python
 
 test-cpp: build
 	cd $(BUILD) && ctest --output-on-failure

@@ -123,8 +123,7 @@ SHOULDER = np.array([1.0, 1.5])
 def skinned_swing(degrees=200.0, blend=(0.85, 1.25), seed=9):
     """A torso [0, 1] x [0, 2] with an arm [1, 4] x [1.25, 1.75], posed the way an armature
     poses it: two-bone linear blend skinning, the arm bone turned by ``degrees`` about the
-    shoulder, smoothstep weights over x in ``blend``. The joint folds a few triangles (issue
-    #10); since skinning blends the bone's matrix with the identity, 200 degrees gives the
+    shoulder, smoothstep weights over x in ``blend``. The joint folds a few triangles; since skinning blends the bone's matrix with the identity, 200 degrees gives the
     same key as -160 (the arm swings clockwise)."""
     outline = np.array([(0, 0), (1, 0), (1, 1.25), (4, 1.25), (4, 1.75), (1, 1.75), (1, 2),
                         (0, 2)], dtype=float)
@@ -139,7 +138,7 @@ def skinned_swing(degrees=200.0, blend=(0.85, 1.25), seed=9):
 
 def body_tail(degrees=300.0, seed=10):
     """A body [0, 2] x [0, 1] with a tail [2, 5] x [0.35, 0.65] that curls up by ``degrees``
-    (a smooth ramp along it, deform.bend); the body does not move (issue #10, point 3)."""
+    (a smooth ramp along it, deform.bend); the body does not move."""
     outline = np.array([(0, 0), (2, 0), (2, 0.35), (5, 0.35), (5, 0.65), (2, 0.65), (2, 1),
                         (0, 1)], dtype=float)
     V, F = _body_mesh(outline, 900, seed)
@@ -150,8 +149,8 @@ def body_tail(degrees=300.0, seed=10):
 
 def cutout():
     """A cut-out character of seven loose pieces at depths 0, 0.01, ..., 0.06 (draw order): the
-    arm raised 150 degrees at the shoulder, the elbow bent 90, the head tilted 30 (issue #20;
-    the pieces and the pins are in cutout/cutout_character.py)."""
+    arm raised 150 degrees at the shoulder, the elbow bent 90, the head tilted 30 (the
+    pieces and the pins are in cutout/cutout_character.py)."""
     sys.path.insert(0, os.path.join(HERE, "cutout"))
     import cutout_character as cc
     V, Y, polygons, _ = cc.one_mesh(cc.character()[0])

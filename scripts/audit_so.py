@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Audit shipped compiled modules against the portability policy (issue #9) and print a table.
+"""Audit shipped compiled modules against the portability policy and print a table.
 
     /usr/bin/python3 scripts/audit_so.py FILE...     FILE: a .so, or a .zip/.whl holding .so files
 

@@ -1,14 +1,16 @@
 """Bake an example into out/example.blend and render pictures of it (run inside Blender).
 
     blender --background --factory-startup --python-exit-code 1 \
-        --python scripts/bake_example.py -- [--example character] [--count 4] [--out out]
+        --python scripts/bake_example.py -- [--example character] [--count 4] [--out out] [--core DIR]
 
 Loads examples/<example>/source.obj + target.obj (made by examples/make_examples.py), makes a
 mesh with shape keys 'Basis' and 'Pose', bakes bounded-distortion in-betweens with the add-on's scripting API, keyframes the playback slider over frames 1-24,
 saves out/example.blend and renders out/example_<NN>.png (each state, coloured by conformal
 distortion) and out/example_strip.png (all of them side by side, the README picture).
-Uses the installed add-on if importable, else addon/ from this checkout (then bdinterp must be
-importable by Blender's Python, e.g. after `pip install .`).
+With --core DIR (`make demo`: python/, where `make build` puts the compiled module) it runs this
+checkout's addon/ on the bdinterp package in DIR, ahead of any installed copy; without it, the
+installed add-on if importable, else addon/ (then bdinterp must be importable by Blender's Python,
+e.g. after `pip install .`).
 """
 
 import argparse
@@ -22,7 +24,9 @@ import numpy as np
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def import_addon():
+def import_addon(core=None):
+    if core:
+        sys.path[:0] = [os.path.abspath(core), os.path.join(ROOT, "addon")]
     try:
         import bdinterp_blender
     except ImportError:
@@ -100,10 +104,12 @@ def main():
     ap.add_argument("--count", type=int, default=4)
     ap.add_argument("--out", default=os.path.join(ROOT, "out"))
     ap.add_argument("--resolution", type=int, default=256)
+    ap.add_argument("--core", help="a folder holding the bdinterp package (python/ after `make build`): "
+                    "runs it with this checkout's addon/")
     args = ap.parse_args(argv)
     args.out = os.path.abspath(args.out)  # Blender's save operator wants absolute paths
     os.makedirs(args.out, exist_ok=True)
-    addon = import_addon()
+    addon = import_addon(args.core)
 
     src, tgt, faces = example_shapes(addon, args.example)
     obj = make_object(src, tgt, faces)

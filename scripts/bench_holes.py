@@ -1,5 +1,5 @@
-"""Warm frames of a piece with holes against a disk of the same size (issue #21 point 1: a warm
-examples/letter_8 frame should cost at most 1.3x a warm disk frame of the same vertex count).
+"""Warm frames of a piece with holes against a disk of the same size (a warm examples/letter_8
+frame is meant to cost at most 1.3x a warm disk frame of the same vertex count).
 
     /usr/bin/python3 scripts/bench_holes.py [--rounds 5] [--threads N] LABEL=PYTHONPATH [LABEL=PYTHONPATH ...]
 

@@ -1,4 +1,4 @@
-"""Issue #21 point 1 where users are: inside Blender, a text-to-mesh "8" (Blender's text tool,
+"""Warm frames of a piece with holes where users are: inside Blender, a text-to-mesh "8" (Blender's text tool,
 subdivided twice and cleaned up: two holes, ~4.6k vertices) against a Blender grid of about the same
 vertex count, under the same kind of bend; warm slider frames (t = 0.30 .. 0.70 after 0.29), meshes
 taking turns. Refuses to compare unlike things: the "8" must be one piece with two holes and the

@@ -1,4 +1,4 @@
-"""Frames of the gallery's examples and the test meshes, saved or compared (issue #21: a refactoring
+"""Frames of the gallery's examples and the test meshes, saved or compared (a refactoring
 keeps every frame within 1e-9 of the size of the frames before it).
 
     /usr/bin/python3 scripts/frames_snapshot.py save FILE.npz

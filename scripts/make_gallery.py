@@ -64,7 +64,7 @@ def examples(names):
 
 def away_from_folds(X0, X1, F, rings=2):
     """Boolean (m,) mask of the faces outside a `rings`-face neighbourhood of the target's folded
-    faces, or None when none folds: where issue #10 asks a folded pair to behave like a valid one."""
+    faces, or None when none folds: where a folded pair is to behave like a valid one."""
     folded = bdinterp.area_ratio(X0, X1, F) <= 0
     return ~meshes.near_faces(F, folded, rings) if folded.any() else None
 

@@ -1,4 +1,4 @@
-"""Several mesh objects baked as one cut-out character (issue #20, point 4).
+"""Several mesh objects baked as one cut-out character.
 
 The objects that have the target key are solved as one mesh in world space, so that pieces of
 different objects overlap and are joined like pieces of one object; each object's in-betweens

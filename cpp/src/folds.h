@@ -1,4 +1,4 @@
-// Folded inputs (issue #10, point 1; reasoning and measurements in docs/FOLDS.md): cut, interpolate,
+// Folded inputs (reasoning and measurements in docs/FOLDS.md): cut, interpolate,
 // fill. The faces an input folds or collapses, with their neighbours (the fold region R), are taken
 // out; the rest M' is fold-free and flat in every input, so the method interpolates it as usual
 // (exact at the inputs). R is then filled by one Poisson solve whose target gradients are the

@@ -23,8 +23,8 @@ int detail::quota_cores(const std::string& cpu_max) {
     return 0;
   }
   if (!(q > 0)) return 0;  // v1 writes -1 for "no quota"
-  // 1.5 cores of quota: two threads can run, but not both all the time; round up, the pool's
-  // lateness rule covers the rest.
+  // 1.5 cores of quota: two threads can run, but not both all the time; round up (a chunk a
+  // throttled worker does not claim is run by the caller).
   return std::max(1, static_cast<int>(std::ceil(q / period - 1e-9)));
 }
 
@@ -34,11 +34,6 @@ bool detail::LoadMean::add(int others, int cores) {
   const double excess = others < 0 ? 1.0 : std::max(0, others - (cores - 2));
   mean_ = 0.75 * mean_ + 0.25 * excess;
   return mean_ >= 0.5;
-}
-
-bool detail::LateMean::add(bool late) {
-  mean_ = 0.875 * mean_ + (late ? 0.125 : 0.0);
-  return late && mean_ >= 0.2;
 }
 
 int detail::OtherCores::add(uint64_t busy, uint64_t own, uint64_t total, int cores, uint64_t min_total) {

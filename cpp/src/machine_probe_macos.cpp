@@ -6,7 +6,7 @@
 // no cgroups: usable cores are the active CPUs (sysctl hw.activecpu), and the load is the cores other
 // programs kept busy since the previous sample (host_processor_info's tick counters minus this
 // process's getrusage time: the pool's own threads are not counted; it cannot exceed the core count,
-// so demand beyond the cores is not seen and the pool's lateness rule covers it).
+// so demand beyond the cores is not seen: every core busy already makes the verdict busy).
 #include <mach/mach.h>
 #include <sys/resource.h>
 #include <sys/sysctl.h>

@@ -1,8 +1,8 @@
 // The machine as Windows reports it (parallel.h). Run under Wine by `make test-windows`.
 // Windows has no count of runnable threads and no cgroups: the load is the cores other programs kept
 // busy since the previous sample (GetSystemTimes minus GetProcessTimes: the pool's own threads are
-// not counted; it cannot exceed the core count, so demand beyond the cores is not seen and the
-// pool's lateness rule covers it), and a job object's CPU rate limit is not read (plain fallback:
+// not counted; it cannot exceed the core count, so demand beyond the cores is not seen: every core
+// busy already makes the verdict busy), and a job object's CPU rate limit is not read (plain fallback:
 // the affinity mask and the processor count only).
 #include "detail/windows.h"
 

@@ -38,11 +38,6 @@ constexpr auto kShortSpin = std::chrono::microseconds(20);
 // the cautious guess) after kStale without loops.
 constexpr auto kSample = std::chrono::milliseconds(10);
 constexpr auto kStale = std::chrono::seconds(1);
-// A worker's chunk that came back later than the caller's own chunks plus kSlack was descheduled
-// mid-chunk; repeated (LateMean), loops run serially for kBackOff (contention the load probe
-// misses: a CPU quota, a noisy host).
-constexpr auto kBackOff = std::chrono::milliseconds(50);
-constexpr auto kSlack = std::chrono::microseconds(50);
 
 int64_t ticks() { return std::chrono::steady_clock::now().time_since_epoch().count(); }
 template <class Duration>
@@ -63,29 +58,21 @@ const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
 #endif  // Windows has no fork()
 
 // Whether a loop's chunks go to the pool or run on its calling thread (the same chunks either way,
-// so the same bits): on the pool unless the loop is small (known size under kMinItems), the machine
-// is busy (detail::LoadMean over samples of detail::other_threads) or repeated late chunks made
-// callers back off (detail::LateMean).
+// so the same bits): on the pool unless the loop is small (known size under kMinItems) or the
+// machine is busy (detail::LoadMean over samples of detail::other_threads).
 class LoopPolicy {
  public:
   bool use_pool(long items) {
     if (items == kWholeTasks) return true;
     if (items > 0 && items < kMinItems) return false;
     sample();
-    return !busy_.load(std::memory_order_relaxed) && ticks() >= serial_until_.load(std::memory_order_relaxed);
+    return !busy_.load(std::memory_order_relaxed);
   }
   // Whether idle workers keep spinning: a frame is being computed with the pool in use.
   bool keep_spinning() const {
-    return computing.load(std::memory_order_relaxed) > 0 && !busy_.load(std::memory_order_relaxed) &&
-           ticks() >= serial_until_.load(std::memory_order_relaxed);
+    return computing.load(std::memory_order_relaxed) > 0 && !busy_.load(std::memory_order_relaxed);
   }
   bool busy() const { return busy_.load(std::memory_order_relaxed); }
-  // A pool job's caller spent `own` ticks on its chunks and `waited` for the workers' (one job at
-  // a time: called under the pool's dispatch lock).
-  void finished(int64_t own, int64_t waited) {
-    if (late_.add(waited > own + ticks_of(kSlack)))
-      serial_until_.store(ticks() + ticks_of(kBackOff), std::memory_order_relaxed);
-  }
 
  private:
   // Updates the verdict when the last sample is older than kSample (one thread at a time).
@@ -100,11 +87,9 @@ class LoopPolicy {
   }
 
   std::atomic<bool> busy_{true};  // until measured, the cautious guess
-  std::atomic<int64_t> serial_until_{0};
   std::atomic<int64_t> last_{0};
   std::mutex m_;
   detail::LoadMean load_;
-  detail::LateMean late_;
 };
 LoopPolicy policy;
 
@@ -132,8 +117,7 @@ class Pool {
 
   // Runs the job on the caller and the workers; false if another thread is using the pool (the
   // caller then runs the chunks itself).
-  // account: the caller's wait feeds the policy's lateness rule (not for whole tasks).
-  bool run(int chunks, detail::ChunkFn fn, void* context, bool account) {
+  bool run(int chunks, detail::ChunkFn fn, void* context) {
     std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
     if (!job.owns_lock()) return false;
     grow(std::min(chunks, usable_cores()) - 1);
@@ -146,16 +130,13 @@ class Pool {
       { std::lock_guard<std::mutex> lock(m_); }
       wake_.notify_all();
     }
-    const int64_t t0 = ticks();
     work(static_cast<uint32_t>(gen));
-    const int64_t t1 = ticks();
     if (!spin_until(kShortSpin, [&] { return done_.load(std::memory_order_acquire) == chunks; })) {
       std::unique_lock<std::mutex> lock(m_);
       caller_waiting_ = true;
       finished_.wait(lock, [&] { return done_.load() == chunks; });
       caller_waiting_ = false;
     }
-    if (account) policy.finished(t1 - t0, ticks() - t1);
     return true;
   }
 
@@ -249,7 +230,7 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
 void detail::run(int chunks, ChunkFn fn, void* context, long items) {
   if (!inside && !forked.load(std::memory_order_relaxed) && policy.use_pool(items)) {
     inside = true;
-    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context, items != kWholeTasks);
+    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
     inside = false;
     if (ran) return;
   }

@@ -3,8 +3,7 @@
 // machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
 // solves one frame per core. The triangular solves split the same way (src/detail/tree_solve.h).
 // A LoopPolicy (parallel.cpp) runs a loop serially on its calling thread, with the same chunks,
-// when it is small, while other programs take the cores (machine_busy) or while chunks come back
-// late.
+// when it is small or while other programs take the cores (machine_busy).
 // Why not OpenMP: beside another busy program libgomp's fixed split made every loop wait for the
 // thread that shared its core (docs/BENCHMARKS.md, "Busy machine"); here the caller takes chunks
 // too, so a frame is never slower than the serial loop by more than the wake-up.
@@ -48,7 +47,7 @@ void run(int chunks, ChunkFn fn, void* context, long items);
 // pool's awake workers), at least 0. Windows and macOS have no such count: the cores that other
 // programs kept busy since the previous sample (at least ~20 ms before), i.e. the machine's busy
 // CPU time minus this process's (OtherCores), -1 at the first sample; `own_running` is not used,
-// and demand beyond the cores goes unseen (LateMean still backs off). One file per platform:
+// and demand beyond the cores goes unseen. One file per platform:
 // machine_probe_linux.cpp, _windows.cpp, _macos.cpp.
 int other_threads(int own_running);
 // The processors this process may run on: Linux's affinity mask (taskset, a cpuset), Windows' process
@@ -90,17 +89,6 @@ class LoadMean {
  private:
   double mean_ = 1.0;
 };
-// Whether a job whose claimed chunk came back late should make the pool run serially for a while:
-// true for a late job when late ones were at least ~1 in 5 of the recent jobs (running mean, weight
-// 1/8 on the newest): two in a row do it, one now and then (an idle VM's hiccups, ~0.4 % of jobs)
-// does not.
-class LateMean {
- public:
-  bool add(bool late);
-
- private:
-  double mean_ = 0.0;
-};
 }  // namespace detail
 
 // Calls body(chunk) for chunk = 0 .. chunks-1, on the calling thread and the pool's workers, and
@@ -109,7 +97,7 @@ class LateMean {
 // must not throw. Nested or concurrent calls run their chunks serially on the calling thread.
 // items: the loop's size (0: unknown); loops of a known size under 500 run on the calling thread.
 // kWholeTasks: chunks that are whole tasks (frames of a sequence, milliseconds each) go to the
-// workers whatever the busy verdict, and do not count as late loops: waking a worker costs
+// workers whatever the busy verdict: waking a worker costs
 // microseconds against milliseconds of work, and a worker that is not scheduled leaves its chunk
 // to the caller (a sequence on a busy machine: 0.66 x one thread with 3 busy loops, against 1.03 serial).
 inline constexpr long kWholeTasks = -1;

@@ -1,4 +1,4 @@
-// Rigid motions of the plane and their geodesics (issue #20, point 1): the anchor of an in-between
+// Rigid motions of the plane and their geodesics: the anchor of an in-between
 // moves on the path of the motion between the keys, not on the chord between the anchor points.
 //
 // A rigid motion M(x) = R(angle) x + shift. Its logarithm in se(2) is (angle, v) with

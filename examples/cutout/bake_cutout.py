@@ -1,5 +1,5 @@
 """Bake the cut-out character in Blender as one object and as seven objects, with BDI, ARAP and
-the linear blend, and print how far its joints open (issue #20).
+the linear blend, and print how far its joints open.
 
     blender --background --factory-startup --python-exit-code 1 \\
         --python examples/cutout/bake_cutout.py -- [--out out/cutout] [--count 19]

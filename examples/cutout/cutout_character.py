@@ -1,4 +1,4 @@
-"""The cut-out character of examples/cutout (issue #20), built the way an animator builds one:
+"""The cut-out character of examples/cutout, built the way an animator builds one:
 seven loose pieces (torso, head, two eyes, upper arm, forearm, hand) as quad grids and n-gons,
 overlapping where they are pinned, each at its own small depth for draw order. The key 'Pose'
 raises the arm by 150 degrees at the shoulder, bends the elbow by 90 degrees and tilts the head

@@ -1,4 +1,4 @@
-"""Layered pieces (issue #20, point 3): the loose parts of a 3D mesh in parallel planes, each at its own
+"""Layered pieces: the loose parts of a 3D mesh in parallel planes, each at its own
 depth along the common normal (a cut-out character's draw order), solved in one plane and put back
 at their depths."""
 from dataclasses import dataclass

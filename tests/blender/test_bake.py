@@ -253,7 +253,7 @@ def test_operator_reports_distortion(addon, bd):
 
 def test_a_folded_target_is_reported_by_key_polygons_and_vertex(addon):
     """A target key with folded triangles bakes, and the result names the key, how many polygons
-    fold and a vertex near them (issue #10: 'target has 4 folded faces near vertex 312')."""
+    fold and a vertex near them ('target has 4 folded faces near vertex 312')."""
     obj = bent_strip()
     base = read_key(obj, "Basis")
     co = base.copy()

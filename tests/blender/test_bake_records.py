@@ -127,7 +127,7 @@ def test_core_errors_name_keys_and_polygons(addon):
 
 
 def test_an_anchor_vertex_out_of_range_is_named_by_the_core(addon):
-    """The core alone checks the range (issue #21: one layer); the add-on names the vertex."""
+    """The core alone checks the range (one layer); the add-on names the vertex."""
     obj = bent_strip()
     n = len(obj.data.vertices)
     with pytest.raises(ValueError, match=r"^Strip: vertex %d: the anchor vertex is out of range "

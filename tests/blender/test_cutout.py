@@ -1,4 +1,4 @@
-"""Cut-out characters (issue #20): layered pieces in one object, seven objects as one character,
+"""Cut-out characters: layered pieces in one object, seven objects as one character,
 joints, masked keys. The character is examples/cutout's (seven pieces, arm raised 150 degrees,
 elbow bent 90, head tilted 30, every piece moved rigidly about pins); joint openings are measured
 from the triangles that hold each pin (cutout_character.joint_openings), without the solver."""
@@ -22,7 +22,7 @@ import cutout_blender as cb  # noqa: E402
 import cutout_character as cc  # noqa: E402
 
 COUNT = 9          # in-betweens: t = 0.1 ... 0.9
-OPEN = 0.005       # issue #20: joints within 0.5 % of the character's size
+OPEN = 0.005       # joints within 0.5 % of the character's size
 JOINED = 1e-5      # what float32 keys leave of a pin that the solver keeps joined (measured ~1e-7)
 
 

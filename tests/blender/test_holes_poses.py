@@ -1,4 +1,4 @@
-"""Issue #10 in Blender: letters with holes baked through the panel's operator and the scripting
+"""Letters with holes baked through the panel's operator and the scripting
 API (before: "pieces with holes are not supported"), and a mirrored target's clear error."""
 
 import bpy

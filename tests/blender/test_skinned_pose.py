@@ -1,4 +1,4 @@
-"""Issue #10 in Blender: a pose made the way animators make it -- a grid body with a limb four faces
+"""In Blender: a pose made the way animators make it -- a grid body with a limb four faces
 wide, Blender's own two-bone Armature, automatic (bone heat) or smooth vertex-group weights over
 the shoulder, the limb bone rotated about the view axis and applied as a shape key -- folds a few
 triangles where the weights blend. It is baked through the panel's operator and through the

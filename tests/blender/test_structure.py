@@ -1,4 +1,4 @@
-"""The add-on's modules import one way (issue #13): each only imports modules of lower layers."""
+"""The add-on's modules import one way: each only imports modules of lower layers."""
 
 import ast
 import glob

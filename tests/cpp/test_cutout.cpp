@@ -1,4 +1,4 @@
-// Issue #20, point 1: the anchor moves on the geodesic of the rigid motions between the keys. The
+// The anchor moves on the geodesic of the rigid motions between the keys. The
 // expectations are analytic: a turn by t theta about the motion's fixed point.
 #include <gtest/gtest.h>
 

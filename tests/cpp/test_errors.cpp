@@ -1,4 +1,4 @@
-// Issue #21 point 6: InvalidInput says where (shape, face, vertex) apart from what, and a tolerance
+// InvalidInput says where (shape, face, vertex) apart from what, and a tolerance
 // no double can reach is refused before any Newton step.
 #include <gtest/gtest.h>
 

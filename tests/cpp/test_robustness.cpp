@@ -1,4 +1,4 @@
-// Issue #11 on the C++ side: no hidden state, self-checks, scale invariance, parameter validation,
+// On the C++ side: no hidden state, self-checks, scale invariance, parameter validation,
 // concurrent use.
 #include <gtest/gtest.h>
 

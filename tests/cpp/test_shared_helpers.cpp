@@ -1,4 +1,4 @@
-// The helpers that several units share (issue #21, one helper per idiom): the symmetric pattern and
+// The helpers that several units share (one helper per idiom): the symmetric pattern and
 // factorise() over SparseCholesky, the edge matrix, and the rotation branch.
 #include <gtest/gtest.h>
 

@@ -76,7 +76,7 @@ def main():
     write("fuzz_disk_targets", "wobble", disk_targets([0.2, 0, 0, 0.2], 0.1, wobble, [0.3, 0.31, 1.0, 0.0]))
     write("fuzz_disk_targets", "flip", disk_targets([-2, 0, 0, 0], 0.05, wobble, [0.5, 1.2, -0.3]))
 
-    # Findings of issue #11, fixed in the core: seeds, so that every run replays them first. (A
+    # Earlier findings, fixed in the core: seeds, so that every run replays them first. (A
     # finding not yet fixed goes to tests/fuzz/known/ with folder="known"; docs/FUZZING.md.)
     strip = [(0.0, 0.0), (1.0, 0.0), (2.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0)]
     strip_f = [(0, 1, 4), (0, 4, 3), (1, 2, 5), (1, 5, 4)]

@@ -1,4 +1,4 @@
-"""Cut-out characters of issue #20: loose rectangular pieces overlapping where they are pinned, posed
+"""Cut-out characters: loose rectangular pieces overlapping where they are pinned, posed
 by turning each piece rigidly about its pins, and the measures the tests apply to their frames."""
 import numpy as np
 

@@ -1,4 +1,4 @@
-"""Test meshes for issue #10: a jittered polar annulus, a grid with two square holes, a body with a
+"""Test meshes of poses: a jittered polar annulus, a grid with two square holes, a body with a
 limb (arm or tail) and its poses (rigid swing, linear-blend-skinned swing, curl)."""
 import numpy as np
 

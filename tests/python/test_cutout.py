@@ -1,4 +1,4 @@
-"""Issue #20: cut-out characters made of loose pieces, each placed on the geodesic of its rigid motion
+"""Cut-out characters made of loose pieces, each placed on the geodesic of its rigid motion
 (point 1) and joined to the pieces it overlaps (point 2). Expectations are analytic: a piece that
 turns about a pin keeps the pin; pieces pinned together in both keys stay pinned; a still torso
 stays still."""

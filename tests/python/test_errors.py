@@ -1,4 +1,4 @@
-"""Issue #21 point 6: an InvalidInputError says where (shape, face, vertex) apart from what, whether
+"""An InvalidInputError says where (shape, face, vertex) apart from what, whether
 the compiled core or the Python layer refuses; a tolerance no double can reach is refused at once."""
 import time
 

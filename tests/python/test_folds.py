@@ -1,4 +1,4 @@
-"""Folded poses (issue #10, point 1; docs/FOLDS.md): two-bone linear-blend-skinned bars and bodies
+"""Folded poses (docs/FOLDS.md): two-bone linear-blend-skinned bars and bodies
 (weights by x only, or also falling off into the torso) at 160 and 200 degrees fold at the joint. The keys are reached, the swing is followed in
 proportion, and away from the folds the frames are fold-free with K and areas in the inputs' range."""
 import os

@@ -1,4 +1,4 @@
-"""Pieces with holes (issue #10, point 2): one conformal scale per hole with its turning prescribed,
+"""Pieces with holes: one conformal scale per hole with its turning prescribed,
 two dipoles per hole closing its translation period, the disks' layout with the holes free
 (docs/HOLES.md)."""
 import numpy as np
@@ -145,7 +145,7 @@ def test_clockwise_faces_vertex_anchor_and_three_shape_blends_with_holes():
 
 @pytest.mark.parametrize("mesh", MESHES)
 def test_frames_with_holes_do_not_depend_on_the_calls_before(mesh):
-    """Issue #11 at the default options on pieces with holes (the Flattener's chord steps with an
+    """Robustness at the default options on pieces with holes (the Flattener's chord steps with an
     earlier factor, the dipoles fitted to the extrapolated guess, the Broyden Jacobian kept across
     frames): jumps and 0.01 slider moves against fresh Interpolators, to 1e-12 of the size."""
     V, F = MESHES[mesh](8)

@@ -1,4 +1,4 @@
-"""Issue #20, point 3: the pieces of a 3D mesh in parallel planes at their own depths (draw order)."""
+"""The pieces of a 3D mesh in parallel planes at their own depths (draw order)."""
 import numpy as np
 import pytest
 

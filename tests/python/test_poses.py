@@ -1,4 +1,4 @@
-"""Poses animators make (issue #10): still parts stay still under the default anchor (point 3),
+"""Poses animators make: still parts stay still under the default anchor (point 3),
 mirror-image targets are refused and folded faces are reported (point 4)."""
 import numpy as np
 import pytest

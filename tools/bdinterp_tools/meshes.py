@@ -43,7 +43,7 @@ def signed_areas(V, F):
 
 def near_faces(F, seed, rings=2):
     """Boolean (m,) mask of the faces F (m,3) within `rings` vertex-sharing steps of the faces of
-    the boolean mask `seed` (m,): "a `rings`-face neighbourhood" (issue #10's two rings around
+    the boolean mask `seed` (m,): "a `rings`-face neighbourhood" (two rings around
     the folds)."""
     F = np.asarray(F)
     near = np.asarray(seed, bool).copy()

@@ -1,6 +1,6 @@
 // Internal: the loop control of the flattening's Newton solve (flatten_newton.cpp): the step cap,
 // and the refinement below the tolerance that makes frames independent of the previous frame's
-// start (issue #11).
+// start.
 #pragma once
 
 #include <Eigen/Core>
