@@ -10,13 +10,13 @@ from .baking import BakeJob, store_result
 from .names import DEFAULT_TOLERANCE
 
 
-def _to_world(obj, co):
+def to_world(obj, co):
     import numpy as np
     m = np.array(obj.matrix_world, dtype=np.float64)
     return co @ m[:3, :3].T + m[:3, 3]
 
 
-def _to_local(obj, co):
+def to_local(obj, co):
     import numpy as np
     m = np.array(obj.matrix_world, dtype=np.float64)
     return np.linalg.solve(m[:3, :3], (co - m[:3, 3]).T).T
@@ -55,7 +55,7 @@ class CharacterInputs(solve.Inputs):
         self.poly = np.concatenate([p.poly + o for p, o in zip(self.parts, self.poly_offsets)])
         self.face_offsets = np.cumsum([0] + [len(p.faces) for p in self.parts])
         self.raw = None
-        world = [np.concatenate([_to_world(p.obj, p.shapes[i]) for p in self.parts])
+        world = [np.concatenate([to_world(p.obj, p.shapes[i]) for p in self.parts])
                  for i in range(len(self.names))]
         self.shapes = self.layered(world, tolerance)
 
@@ -86,7 +86,7 @@ class CharacterInputs(solve.Inputs):
         """[(part, its frames (k, n_i, 3) in its object's local coordinates)] of world frames."""
         import numpy as np
         frames = np.asarray(frames, dtype=np.float64).reshape(-1, self.offsets[-1], 3)
-        return [(p, [_to_local(p.obj, X[a:b]) for X in frames])
+        return [(p, [to_local(p.obj, X[a:b]) for X in frames])
                 for p, a, b in zip(self.parts, self.offsets[:-1], self.offsets[1:])]
 
 

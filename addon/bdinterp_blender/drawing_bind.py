@@ -12,7 +12,7 @@ attributes of the drawings, so a saved file keeps working.
 import bpy
 from bpy.app.handlers import persistent
 
-from .character import _to_local, _to_world
+from .character import to_local, to_world
 from .mesh_io import BakeError, triangles
 
 BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh object's name
@@ -121,7 +121,7 @@ def bind_drawing(gp_obj, mesh_obj):
     X, faces = world_mesh(mesh_obj)
     located = []
     for d in drawings(gp_obj):  # all computed before anything is written
-        P = _to_world(gp_obj, read(d, "position", 3).astype(float))
+        P = to_world(gp_obj, read(d, "position", 3).astype(float))
         located.append((d, P, locate(P, X, faces) if len(P) else None))
     count = 0
     for d, P, found in located:
@@ -167,7 +167,7 @@ def update(gp_obj, depsgraph):
         tri = read(d, TRI, 1).astype(np.int64)
         pos, scale = place(X, faces, tri, read(d, BARY, 3).astype(float),
                            read(d, HEIGHT, 1).astype(float), _frames(rest, faces[tri])[4])
-        new = _to_local(gp_obj, pos).astype(np.float32)
+        new = to_local(gp_obj, pos).astype(np.float32)
         if not np.array_equal(new, read(d, "position", 3)):  # our own write re-enters: stop there
             write(d, "position", 'FLOAT_VECTOR', new)
             write(d, "radius", 'FLOAT', read(d, RADIUS, 1) * scale)

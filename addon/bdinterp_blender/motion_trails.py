@@ -91,7 +91,7 @@ class Path:
             n in o.data.shape_keys.key_blocks for o in self.objs)]
         if not names:
             return np.empty((0, self.size, 3)), []
-        frames = np.array([np.concatenate([character._to_world(o, mesh_io.read_co(
+        frames = np.array([np.concatenate([character.to_world(o, mesh_io.read_co(
             o.data.shape_keys.key_blocks[n])) for o in self.objs]) for n in names])
         return frames, names
 
