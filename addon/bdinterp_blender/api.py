@@ -33,11 +33,9 @@ def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", a
     if isinstance(obj, (list, tuple)):
         objs = character.members(obj, target)
         if len(objs) > 1:
-            if anchor_path is not None:
-                raise BakeError("an anchor path works for one object, not for a character of %d"
-                                % len(objs))
             return character.CharacterBakeJob(objs, target, source, count, factors, easing,
-                                              anchor, method, tolerance, drivers, joints)
+                                              anchor, method, tolerance, drivers, joints,
+                                              anchor_path=anchor_path)
         obj = objs[0] if objs else (obj[0] if obj else None)  # its own errors say what is wrong
     return BakeJob(obj, target, source, count, factors, easing, anchor, anchor_path, method,
                    tolerance, drivers, joints)
@@ -69,8 +67,9 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     first of them; a failure writes into none of them.  target/source: key names (source default: the reference
     key).  count: number of evenly timed in-betweens, or factors: explicit list in (0, 1).
     easing: 'LINEAR', 'EASE_IN', 'EASE_OUT', 'EASE_IN_OUT' or a callable u -> t (custom curve).
-    anchor: 'AUTO', a vertex index or a vertex group name; anchor_path: a curve object the
-    anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  tolerance: planarity,
+    anchor: 'AUTO', a vertex index or a vertex group name (a character: of its first object),
+    or (object, vertex index) (a character: of any of its objects); anchor_path: a curve object
+    the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  tolerance: planarity,
     relative to the mesh size.  progress(done, total): called after each chunk of frames;
     returning False cancels (BakeError, nothing written).  joints: pieces (loose parts) that
     overlap stay joined where they are pinned (docs/JOINTS.md); False places each on its own.
@@ -131,7 +130,14 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
     obj.bdi.live_factor or obj.bdi.poses[i].weight to animate.  anchor: 'AUTO', 'VERTEX' or
     'GROUP' (with obj.bdi.anchor_vertex / anchor_group).  Everything is validated and the first
     result computed before any setting is written.  Returns the live key name (or None).
+    obj may be a list of objects: those that have the target key are one character, solved in
+    world space as bake() solves it, each object's result in its own 'bdi.live' key, all following
+    the factor (and settings) of the first of them; anchor 'VERTEX' with obj.bdi.anchor_object
+    names a vertex of any of them.
     """
+    objs = None
+    if isinstance(obj, (list, tuple)):
+        obj, objs = _live_character(obj, target, weights)
     if not hasattr(obj, "bdi"):
         raise BakeError("live mode needs the bdinterp add-on enabled (Preferences > Add-ons)")
     mesh_io.key_of(obj)
@@ -141,13 +147,13 @@ def set_live(obj, target=None, factor=None, weights=None, source=None, enable=Tr
         pose_weights(items)  # weights >= 0
     settings, values = _live_request(props, target, factor, items, source, anchor)  # anchor valid
     if not enable:
-        _write_live_settings(obj, target, factor, items, source, anchor)
+        _write_live_settings(obj, target, factor, items, source, anchor, objs)
         props.live = False
         return None
-    state = live.prepare(obj, settings)
+    state = live.prepare(obj, settings, objs)
     result = live.compute(state, values)
     # --- validated and computed; from here on the file is modified ---
-    _write_live_settings(obj, target, factor, items, source, anchor)
+    _write_live_settings(obj, target, factor, items, source, anchor, objs)
     live.switch_on(obj, state, values, result)
     return LIVE_KEY
 
@@ -167,9 +173,25 @@ def _live_request(props, target, factor, items, source, anchor):
     return settings, (float(props.live_factor if factor is None else factor),)
 
 
-def _write_live_settings(obj, target, factor, items, source, anchor):
+def _live_character(objs, target, weights):
+    """(the object that holds the live settings, the character's objects or [] for one object)
+    of a list of objects given to set_live()."""
+    first = next((o for o in objs if o is not None), None)
+    name = target if target is not None else getattr(getattr(first, "bdi", None), "target", "")
+    members = character.members(objs, name)
+    if len(members) < 2:
+        return (members[0] if members else first), []
+    if weights is not None:
+        raise BakeError("a live pose blend works for one object, not for a character of %d"
+                        % len(members))
+    return members[0], members
+
+
+def _write_live_settings(obj, target, factor, items, source, anchor, objs=None):
     props = obj.bdi
     with live.suspended():
+        if objs is not None:
+            live.set_members(obj, objs)
         if source is not None:
             props.source = source
         if target is not None:
@@ -193,8 +215,16 @@ def bake_live(obj, count=None):
     the live key.  Live interpolation: in-betweens at `count` evenly spaced factors (default: the
     panel's In-betweens) and the playback slider with the live factor's keyframes or driver
     copied onto it.  Live pose blend: one key per distinct set of weights over the scene's frame
-    range, keyframed (constant) to show on its frames.  Returns the BakeResult."""
-    return baking.bake_live(obj, count)
+    range, keyframed (constant) to show on its frames.  A live character is baked as bake() bakes
+    it, and every object's live key removed.  Returns the BakeResult."""
+    props = getattr(obj, "bdi", None)
+    objs = live.character_objects(obj, props.target) if props is not None and props.live \
+        and props.live_mode != 'BLEND' else []
+    if not objs:
+        return baking.bake_live(obj, count)
+    result = baking.bake_live(obj, count, job_of=lambda _obj, *args: bake_job(objs, *args))
+    live.remove_keys(objs[1:])
+    return result
 
 
 def show_distortion(obj, key=None, visible=True):

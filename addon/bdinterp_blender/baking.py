@@ -208,15 +208,16 @@ def _factor_curve(obj):
     return ("action", fc) if fc is not None else (None, None)
 
 
-def bake_live(obj, count=None):
+def bake_live(obj, count=None, job_of=BakeJob):
     """See api.bake_live: live interpolation -> in-betweens + slider animated like the factor;
-    live pose blend -> one key per distinct set of weights in the scene's frame range."""
+    live pose blend -> one key per distinct set of weights in the scene's frame range. job_of:
+    makes the BakeJob from BakeJob's arguments (a character's: api.bake_job of its objects)."""
     props = getattr(obj, "bdi", None)
     if props is None or not props.live:
         raise mesh_io.BakeError("%s is not in live mode" % getattr(obj, "name", "No object"))
     if props.live_mode == 'BLEND':
         return _bake_live_blend(obj, props)
-    job = BakeJob(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
+    job = job_of(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
                   solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True,
                   props.joints)
     kind, curve = _factor_curve(obj)

@@ -7,6 +7,7 @@ are written back in its own local coordinates, driven by one slider on the activ
 
 from . import solve
 from .baking import BakeJob, store_result
+from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE
 
 
@@ -38,17 +39,17 @@ class CharacterInputs(solve.Inputs):
     object (the active one, whose slider plays the bake)."""
 
     def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
-                 joints=True):
+                 joints=True, anchor_path=None):
         import numpy as np
         self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, joints)
                       for obj in objs]
         first = self.parts[0]
         self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
         self.obj_name = "character of %d objects" % len(objs)
-        # a vertex (or group) anchor of the first object: its vertices come first, so its index
         self.names, self.joints = first.names, bool(joints)
-        self.anchor = solve.resolve_anchor(first.obj, anchor, None, 1)
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
+        # the shapes are in world space: so is the anchor path (no object's matrix)
+        self.anchor = solve.resolve_anchor(None, self.stacked_vertex(anchor), anchor_path, 1)
         self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
         # polygons numbered across the objects, so that folds count each object's apart
         self.poly_offsets = np.cumsum([0] + [len(p.obj.data.polygons) for p in self.parts])
@@ -58,6 +59,22 @@ class CharacterInputs(solve.Inputs):
         world = [np.concatenate([to_world(p.obj, p.shapes[i]) for p in self.parts])
                  for i in range(len(self.names))]
         self.shapes = self.layered(world, tolerance)
+
+    def stacked_vertex(self, anchor):
+        """The character's vertex index of `anchor`: 'AUTO'/None (None), (object or its name,
+        vertex index) of a member, or a vertex index or vertex group name of the first object
+        (whose vertices come first)."""
+        if anchor in (None, "AUTO", "auto"):
+            return None
+        if not isinstance(anchor, tuple):
+            return solve.resolve_anchor(self.parts[0].obj, anchor, None, 1)
+        obj, vertex = anchor
+        name = getattr(obj, "name", obj)
+        for part, offset in zip(self.parts, self.offsets):
+            if part.obj.name == name:
+                return int(offset) + solve.own_vertex(part.obj, vertex)
+        raise BakeError("anchor object %r is not one of the character's objects (%s)"
+                        % (name, ", ".join(p.obj.name for p in self.parts)))
 
     def _part(self, index, offsets):
         import numpy as np
@@ -96,13 +113,13 @@ class CharacterBakeJob(BakeJob):
 
     def __init__(self, objs, target, source=None, count=3, factors=None, easing="LINEAR",
                  anchor="AUTO", method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-                 joints=True):
+                 joints=True, anchor_path=None):
         self._objs = members(objs, target)
-        super().__init__(self._objs[0], target, source, count, factors, easing, anchor, None,
+        super().__init__(self._objs[0], target, source, count, factors, easing, anchor, anchor_path,
                          method, tolerance, drivers, joints)
 
     def inputs(self, obj, source, target, anchor, anchor_path, tolerance, joints):
-        return CharacterInputs(self._objs, source, target, anchor, tolerance, joints)
+        return CharacterInputs(self._objs, source, target, anchor, tolerance, joints, anchor_path)
 
     def finish(self):
         """Compute what is left, plan every object, then write them all; a BakeResult."""

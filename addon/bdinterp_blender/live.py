@@ -17,7 +17,7 @@ from contextlib import contextmanager
 import bpy
 from bpy.app.handlers import persistent
 
-from . import mesh_io, solve
+from . import character, mesh_io, solve
 from .mesh_io import BakeError
 from .names import LIVE_KEY, LIVE_WARNING
 
@@ -32,6 +32,7 @@ class State:
         inp.obj = inp.key = inp.source = inp.others = None  # may dangle after undo: keep names only
         self.values = None      # factor / weights last written
         self.dirty = False      # the object's shape keys may have been edited: re-read, compare
+        self.members = ()       # a character: its objects' names and matrices (a change rebuilds)
 
 
 _states = {}   # object name -> State
@@ -46,8 +47,12 @@ def settings_of(props):
                     props.tolerance, props.method, props.joints)
 
 
-def prepare(obj, settings):
-    """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing."""
+def prepare(obj, settings, objs=None):
+    """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing.
+    objs: the objects of obj's character (default: those it holds, see character_objects)."""
+    objs = character_objects(obj, settings.target) if objs is None else objs
+    if len(objs) > 1 and settings.mode != 'BLEND':
+        return prepare_character(objs, settings)
     if settings.mode == 'BLEND':
         if not settings.poses:
             raise BakeError("%s: live pose blend has no poses; add some under Pose Blend" % obj.name)
@@ -60,6 +65,55 @@ def prepare(obj, settings):
     return State(settings, inp, inp.interpolator() if settings.method == 'bdi' else None)
 
 
+def character_objects(obj, target, others=None):
+    """obj and the other objects of its live character (others, default: obj.bdi.live_objects)
+    that have the target key, obj first; [] when that is not several objects led by obj."""
+    others = [m.obj for m in obj.bdi.live_objects] if others is None else list(others)
+    objs = character.members([obj] + others, target)
+    return objs if len(objs) > 1 and objs[0] == obj else []
+
+
+def _signature(objs):
+    return tuple((o.name, tuple(tuple(row) for row in o.matrix_world)) for o in objs)
+
+
+def prepare_character(objs, settings):
+    """The State of a character of several objects (objs[0] holds the settings and the factor),
+    solved in world space as a bake solves it (character.CharacterInputs)."""
+    path = bpy.data.objects.get(settings.path) if settings.path else None
+    inp = character.CharacterInputs(objs, settings.source, settings.target, settings.anchor,
+                                    settings.tolerance, settings.joints, path)
+    state = State(settings, inp, inp.interpolator() if settings.method == 'bdi' else None)
+    for part in inp.parts:
+        part.obj = part.key = part.source = part.others = None
+    state.members = _signature(objs)
+    return state
+
+
+def set_members(obj, objs):
+    """Record objs (obj first; [] for obj alone) as obj's live character."""
+    obj.bdi.live_objects.clear()
+    for other in objs[1:]:
+        obj.bdi.live_objects.add().obj = other
+
+
+def _members(obj, settings):
+    return _signature(character_objects(obj, settings.target)) if settings.mode != 'BLEND' else ()
+
+
+def remove_keys(objs):
+    """Remove the live key of each of objs (a baked character's other objects)."""
+    for obj in objs:
+        kb = obj.data.shape_keys.key_blocks.get(LIVE_KEY) if obj.data.shape_keys else None
+        if kb is not None:
+            obj.shape_key_remove(kb)
+
+
+def _objects(obj, state):
+    """The objects whose keys `state` reads and writes (obj, or a character's)."""
+    return [bpy.data.objects.get(name) for name, _ in state.members] or [obj]
+
+
 def _values(props):
     if props.live_mode == 'BLEND':
         return tuple(p.weight for p in props.poses)
@@ -67,10 +121,17 @@ def _values(props):
 
 
 def _unchanged(obj, state):
-    """True if the input keys still hold the data the state was built from."""
+    """True if the input keys (of every object of a character) still hold the data the state was
+    built from."""
+    parts = getattr(state.inp, "parts", [state.inp])
+    return all(o is not None and _same_keys(o, part)
+               for o, part in zip(_objects(obj, state), parts))
+
+
+def _same_keys(obj, inp):
     import numpy as np
     key = obj.data.shape_keys
-    for name, raw in zip(state.inp.names, state.inp.raw):
+    for name, raw in zip(inp.names, inp.raw):
         kb = key.key_blocks.get(name) if key else None
         if kb is None or len(kb.data) * 3 != raw.size or not np.array_equal(mesh_io.read_raw(kb), raw):
             return False
@@ -84,7 +145,7 @@ def _state(obj):
         state.dirty = False
         if not _unchanged(obj, state):
             state = None
-    if state is None or state.settings != settings:
+    if state is None or state.settings != settings or state.members != _members(obj, settings):
         state = _states[obj.name] = prepare(obj, settings)
     return state
 
@@ -118,18 +179,30 @@ def update(obj, depsgraph=None, force=False):
 
 
 def write(obj, state, values, result):
-    """Write `result` into obj's live key (created if missing)."""
+    """Write `result` into obj's live key (created if missing); a character's world result into
+    each of its objects' live keys, in the object's own coordinates."""
+    objs = _objects(obj, state)
+    if state.members:
+        offsets = state.inp.offsets
+        for o, a, b in zip(objs, offsets[:-1], offsets[1:]):
+            write_key(o, state.inp.names[0], character.to_local(o, result[a:b]))
+    else:
+        write_key(obj, state.inp.names[0], result)
+    state.values = values
+
+
+def write_key(obj, source, co):
+    """Write co into obj's live key (created if missing), relative to the key `source`."""
     key = obj.data.shape_keys
     kb = key.key_blocks.get(LIVE_KEY)
     if kb is None:
         kb = obj.shape_key_add(name=LIVE_KEY, from_mix=False)
-    if kb.relative_key.name != state.inp.names[0]:
-        kb.relative_key = key.key_blocks[state.inp.names[0]]
+    if kb.relative_key.name != source:
+        kb.relative_key = key.key_blocks[source]
     if kb.value != 1.0:
         kb.value = 1.0
-    mesh_io.write_co(kb, result)
+    mesh_io.write_co(kb, co)
     key.update_tag()
-    state.values = values
 
 
 def turn_off(obj, exc):
@@ -184,6 +257,11 @@ def _live_objects(scene):
     return [o for o in scene.objects if o.type == 'MESH' and o.bdi.live]
 
 
+def _keys_edited(obj, state, edited):
+    return any(getattr(getattr(o, "data", None), "shape_keys", None) is not None
+               and o.data.shape_keys.name in edited for o in _objects(obj, state))
+
+
 def _edited_keys(depsgraph):
     return {u.id.original.name for u in depsgraph.updates
             if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
@@ -194,7 +272,7 @@ def on_frame_change(scene, depsgraph=None):
     edited = _edited_keys(depsgraph) if depsgraph is not None else set()
     for obj in _live_objects(scene):
         state = _states.get(obj.name)
-        if state is not None and getattr(obj.data.shape_keys, "name", None) in edited:
+        if state is not None and _keys_edited(obj, state, edited):
             state.dirty = True  # writes made in this handler are not reported: this one is not ours
         _safe_update(obj, depsgraph)
 
@@ -204,7 +282,7 @@ def on_depsgraph_update(scene, depsgraph):
     edited = _edited_keys(depsgraph)
     for obj in _live_objects(scene):
         state = _states.get(obj.name)
-        if state is not None and getattr(obj.data.shape_keys, "name", None) in edited:
+        if state is not None and _keys_edited(obj, state, edited):
             # Our own write of the live key is reported here too, indistinguishable from an edit
             # made by a script before this evaluation: re-check (the input keys' foreach_get,
             # ~0.7 ms per key at 20k vertices) rather than trust a flag.

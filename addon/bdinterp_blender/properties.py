@@ -43,6 +43,11 @@ class BDI_PoseItem(bpy.types.PropertyGroup):
                           description="Weight of this pose (the source gets 1 - sum)")
 
 
+class BDI_ObjectItem(bpy.types.PropertyGroup):
+    obj: PointerProperty(type=bpy.types.Object, name="Object", update=_live_changed,
+                         description="Another object of this object's live character")
+
+
 class BDI_ObjectProps(bpy.types.PropertyGroup):
     source: StringProperty(name="Source", description="Source key (empty: the reference key)",
                            update=_live_changed)
@@ -90,10 +95,17 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                                update=_live_changed, description="Keyframe to animate")
     live_error: StringProperty(name="Live Error")
     result: StringProperty(name="Last Result", description="Summary of the last bake (JSON)")
+    live_objects: CollectionProperty(type=BDI_ObjectItem, name="Live Character",
+                                     description="The other objects that live mode solves with "
+                                                 "this one as one character (this one's factor)")
+    anchor_object: PointerProperty(type=bpy.types.Object, name="Anchor Object",
+                                   update=_live_changed, poll=lambda self, obj: obj.type == 'MESH',
+                                   description="The object whose vertex anchors a character of "
+                                               "several objects (empty: this one)")
     distortion_visible: BoolProperty(name="Distortion Shown", default=False)
 
 
-CLASSES = (BDI_PoseItem, BDI_ObjectProps)
+CLASSES = (BDI_PoseItem, BDI_ObjectItem, BDI_ObjectProps)
 
 
 def register():

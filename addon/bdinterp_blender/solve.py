@@ -89,22 +89,32 @@ class Inputs:
 
 def anchor_choice(props, kind=None):
     """The anchor argument of the panel settings `props` (Object.bdi): 'AUTO', the vertex index
-    or the vertex group's name, for kind (default props.anchor) 'AUTO', 'VERTEX' or 'GROUP'."""
+    or the vertex group's name, for kind (default props.anchor) 'AUTO', 'VERTEX' or 'GROUP'; a
+    vertex of another object (props.anchor_object): (its name, the index)."""
     kind = kind or props.anchor
     if kind not in ('AUTO', 'VERTEX', 'GROUP'):
         raise BakeError("anchor must be 'AUTO', 'VERTEX' or 'GROUP', got %r" % (kind,))
+    other = getattr(props, "anchor_object", None)
+    if kind == 'VERTEX' and other is not None and other != props.id_data:
+        return (other.name, props.anchor_vertex)
     return {'AUTO': "AUTO", 'VERTEX': props.anchor_vertex, 'GROUP': props.anchor_group}[kind]
 
 
 def resolve_anchor(obj, anchor, anchor_path, n_targets):
     """Map the add-on's anchor choice to bdinterp's `anchor` argument.
 
-    anchor: 'AUTO'/None, a vertex index, a vertex group name (its heaviest vertex), or a
-    bpy VertexGroup.  anchor_path: optional curve object whose path the anchor (the vertex, or
-    the centroid for 'AUTO') follows, in the mesh's local coordinates.
+    anchor: 'AUTO'/None, a vertex index, a vertex group name (its heaviest vertex), a
+    bpy VertexGroup, or (obj or its name, vertex index).  anchor_path: optional curve object
+    whose path the anchor (the vertex, or the centroid for 'AUTO') follows, in the mesh's local
+    coordinates (obj None: world coordinates, those of a character's shapes).
     """
     if anchor in (None, "AUTO", "auto"):
         vertex = None
+    elif isinstance(anchor, tuple):
+        if getattr(anchor[0], "name", anchor[0]) != obj.name:
+            raise BakeError("anchor: a vertex of %r anchors a character of several objects, not %r"
+                            % (getattr(anchor[0], "name", anchor[0]), obj.name))
+        vertex = own_vertex(obj, anchor[1])
     elif isinstance(anchor, int):
         vertex = anchor  # the core checks the range (explain() names the vertex)
     else:
@@ -116,6 +126,14 @@ def resolve_anchor(obj, anchor, anchor_path, n_targets):
     return _anchor_path(obj, anchor_path, vertex)
 
 
+def own_vertex(obj, vertex):
+    """Vertex index `vertex` of obj's mesh, checked (BakeError naming the object)."""
+    if not isinstance(vertex, int) or not 0 <= vertex < len(obj.data.vertices):
+        raise BakeError("anchor: %r has no vertex %r (it has %d)"
+                        % (obj.name, vertex, len(obj.data.vertices)))
+    return vertex
+
+
 def _anchor_path(obj, path_obj, vertex):
     import bpy
     import numpy as np
@@ -125,8 +143,9 @@ def _anchor_path(obj, path_obj, vertex):
     evaluated = path_obj.evaluated_get(depsgraph)
     mesh = evaluated.to_mesh()
     try:
-        # World -> this mesh's local coordinates, where the shapes live.
-        to_local = obj.matrix_world.inverted() @ evaluated.matrix_world
+        # World -> this mesh's local coordinates, where the shapes live (None: stay in world).
+        to_local = evaluated.matrix_world if obj is None else \
+            obj.matrix_world.inverted() @ evaluated.matrix_world
         pts = np.array([tuple(to_local @ v.co) for v in mesh.vertices], dtype=np.float64)
     finally:
         evaluated.to_mesh_clear()

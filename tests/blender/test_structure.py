@@ -7,8 +7,8 @@ import os
 from conftest import ROOT
 
 LAYERS = [["core", "names", "actions", "overlay"], ["timing", "mesh_io"], ["solve"],
-          ["playback", "live", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
-          ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
+          ["playback", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
+          ["live"], ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 
