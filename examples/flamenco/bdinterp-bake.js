@@ -4,8 +4,9 @@
 // storage, one task per file.  Each task runs examples/blender/bake_folder.py on its file through
 // Flamenco's "blender-render" command (so the Worker's {blender} and {blenderArgs} apply):
 //   {blender} {blenderArgs} <file.blend> --python <bake_folder.py> -- --count N ... --summary <json>
-// bake_folder.py exits 1 when an object of the file failed, so Flamenco marks that task failed
-// and the others go on.  Install: copy this file into the Manager's scripts/ folder and restart.
+// A file's several-object characters (objects sharing a parent and a target key) are baked as
+// one character each, as bake_folder.py bakes them.  bake_folder.py exits 1 when an object of the
+// file failed, so Flamenco marks that task failed and the others go on.  Install: copy this file into the Manager's scripts/ folder and restart.
 
 const JOB_TYPE = {
     label: "bdinterp Bake In-betweens",

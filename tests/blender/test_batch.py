@@ -104,30 +104,40 @@ def command_line(cmd):
     return [exe, *exe_args, *p.get("argsBefore", []), p["blendfile"], *p["args"]]
 
 
+def worker_addon(farm):
+    """(the job's addon_dir, the environment Workers lack) of a farm folder: on Blender 4.2+
+    Workers have the extension installed; else the legacy add-on is unpacked on shared storage
+    and Workers do not have it installed."""
+    if os.environ.get("BDI_EXTENSION_ZIP"):
+        return "", ()
+    addon_dir = os.path.join(farm, "addon")
+    zipfile.ZipFile(addon_zip()).extractall(addon_dir)
+    return addon_dir, ("BLENDER_USER_SCRIPTS",)
+
+
+def run_task(task, tmp, env_drop):
+    """Run a compiled task's one blender-render command as a Worker would; the process."""
+    assert task["type"] == "blender" and len(task["commands"]) == 1
+    cmd = task["commands"][0]
+    assert cmd["type"] == "blender-render"
+    exe, *args = command_line(cmd)
+    proc = blender(args, cwd=tmp, env_drop=env_drop, exe=exe)
+    assert "bake_folder:" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]
+    return proc
+
+
 def test_flamenco_job_compiles_and_its_commands_run(addon, tmp_path):
     tmp = str(tmp_path)
     farm = os.path.join(tmp, "farm")
     shots(os.path.join(farm, "shots"))
-    if os.environ.get("BDI_EXTENSION_ZIP"):  # Blender 4.2+ run: Workers with the extension
-        addon_dir, env_drop = "", ()
-    else:  # the legacy add-on unpacked on shared storage, Workers without it installed
-        addon_dir, env_drop = os.path.join(farm, "addon"), ("BLENDER_USER_SCRIPTS",)
-        zipfile.ZipFile(addon_zip()).extractall(addon_dir)
+    addon_dir, env_drop = worker_addon(farm)
     files = [os.path.join(farm, "shots", n) for n in ("a_good.blend", "b_bad.blend")]
     job = compile_job({"blendfiles": ";".join(files), "script": SCRIPT, "addon_dir": addon_dir,
                        "count": 4, "summary_dir": os.path.join(farm, "summaries")}, tmp)
     assert job["label"] == "bdinterp Bake In-betweens"
     assert [t["name"] for t in job["tasks"]] == ["bake-a_good.blend", "bake-b_bad.blend"]
-    assert all(t["type"] == "blender" and len(t["commands"]) == 1 for t in job["tasks"])
     os.makedirs(os.path.join(farm, "summaries"))
-    codes = []
-    for task in job["tasks"]:
-        cmd = task["commands"][0]
-        assert cmd["type"] == "blender-render"
-        exe, *args = command_line(cmd)
-        proc = blender(args, cwd=tmp, env_drop=env_drop, exe=exe)
-        codes.append(proc.returncode)
-        assert "bake_folder:" in proc.stdout, proc.stdout[-2000:] + proc.stderr[-2000:]
+    codes = [run_task(task, tmp, env_drop).returncode for task in job["tasks"]]
     assert codes == [0, 1]  # the task with a non-planar key fails; the other is done
     a = json.load(open(os.path.join(farm, "summaries", "a_good.blend.bake_summary.json")))
     assert a["ok"] == 1 and a["files"][0]["objects"][0]["pairs"][0]["keys"] == 4
