@@ -225,9 +225,19 @@ def on_toggle(obj):
         return
     if obj.bdi.live:
         obj.bdi.live_error = ""
+        _from_selection(obj)
         _safe_update(obj, force=True)
     else:
         _states.pop(obj.name, None)
+
+
+def _from_selection(obj):
+    """Switched on (the panel's toggle): the selected meshes that have the target key are obj's
+    character, as the bake takes them (obj alone when none is)."""
+    selected = getattr(bpy.context, "selected_objects", None) or ()
+    others = sorted((o for o in selected if o != obj), key=lambda o: o.name)
+    with suspended():
+        set_members(obj, character_objects(obj, obj.bdi.target, others))
 
 
 def on_property_change(obj):

@@ -205,21 +205,28 @@ class BDINTERP_OT_anchor_from_selection(_ObjectOperator, bpy.types.Operator):
     bl_label = "Use Selected Vertex"
 
     def run(self, context, obj):
-        index = None
-        if obj.mode == 'EDIT':
-            import bmesh
-            bm = bmesh.from_edit_mesh(obj.data)
-            active = bm.select_history.active
-            if isinstance(active, bmesh.types.BMVert):
-                index = active.index
-            else:
-                index = next((v.index for v in bm.verts if v.select), None)
-        else:
-            index = next((v.index for v in obj.data.vertices if v.select), None)
-        if index is None:
+        # several objects in edit mode: the vertex may be another object's (of a character)
+        others = [o for o in getattr(context, "objects_in_mode", None) or () if o != obj]
+        found = next(((o, i) for o in [obj] + others for i in [selected_vertex(o)] if i is not None),
+                     None)
+        if found is None:
             raise api.BakeError("no vertex selected")
+        owner, index = found
         obj.bdi.anchor, obj.bdi.anchor_vertex = 'VERTEX', index
-        return "Anchor: vertex %d" % index
+        obj.bdi.anchor_object = owner if owner != obj else None
+        return "Anchor: vertex %d%s" % (index, " of %s" % owner.name if owner != obj else "")
+
+
+def selected_vertex(obj):
+    """The active (or first) selected vertex of obj's mesh, or None."""
+    if obj.mode == 'EDIT':
+        import bmesh
+        bm = bmesh.from_edit_mesh(obj.data)
+        active = bm.select_history.active
+        if isinstance(active, bmesh.types.BMVert):
+            return active.index
+        return next((v.index for v in bm.verts if v.select), None)
+    return next((v.index for v in obj.data.vertices if v.select), None)
 
 
 class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):

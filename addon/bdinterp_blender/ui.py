@@ -108,6 +108,7 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
             row = box.row(align=True)
             row.prop(props, "anchor_vertex", text="Vertex")
             row.operator("bdinterp.anchor_from_selection", text="", icon='RESTRICT_SELECT_OFF')
+            box.prop(props, "anchor_object", text="Of")  # a character's: any of its objects
         elif props.anchor == 'GROUP':
             box.prop_search(props, "anchor_group", obj, "vertex_groups", text="Group")
         box.prop(props, "anchor_path", text="Path")
@@ -239,6 +240,9 @@ class BDINTERP_PT_live(_Panel, bpy.types.Panel):
         else:
             layout.label(text="Weights: see Pose Blend (keyframable)")
         if props.live:
+            if props.live_objects:
+                draw_message(layout, "A character: %d more objects follow this factor"
+                             % len(props.live_objects), icon='INFO', width=width)
             draw_message(layout, "This object " + LIVE_WARNING, icon='INFO', width=width)
             layout.operator("bdinterp.bake_live", icon='SHAPEKEY_DATA')
         if props.live_error:

@@ -224,3 +224,35 @@ def test_a_live_character_anchored_at_a_vertex_of_another_object(addon, characte
     src, tgt = vertex(hand, "Basis", 2), vertex(hand, cb.TARGET, 2)
     shown = cb.world(hand, evaluated_co(hand))[2]
     assert np.linalg.norm(shown - (0.6 * src + 0.4 * tgt)) < 1e-6 * size
+
+
+def test_the_panel_toggle_takes_the_selected_objects_as_the_character(addon, character):
+    objs, size = character
+    ref = reference(addon, objs, (0.5,))
+    owner = objs[0]
+    owner.bdi.target = cb.TARGET
+    owner.bdi.live = True  # all seven selected, the torso active (as the bake takes them)
+    assert not owner.bdi.live_error
+    assert sorted(m.obj.name for m in owner.bdi.live_objects) == sorted(o.name for o in objs[1:])
+    assert shown_error(objs, ref, 0, size) < EXACT  # the factor's default, 0.5
+    owner.bdi.live = False
+    for o in objs[1:]:
+        o.select_set(False)
+    owner.bdi.live = True  # alone now
+    assert len(owner.bdi.live_objects) == 0 and not owner.bdi.live_error
+
+
+def test_use_selected_vertex_of_another_object_in_edit_mode(addon, character):
+    objs, _ = character
+    hand = objs[-1]
+    for o in objs:
+        for items in (o.data.polygons, o.data.edges):
+            items.foreach_set("select", [False] * len(items))
+        o.data.vertices.foreach_set("select", [o == hand and i == 7 for i in range(len(o.data.vertices))])
+    bpy.ops.object.mode_set(mode='EDIT')  # the seven objects in edit mode, the torso active
+    assert bpy.ops.bdinterp.anchor_from_selection() == {'FINISHED'}
+    bpy.ops.object.mode_set(mode='OBJECT')
+    props = objs[0].bdi
+    assert (props.anchor, props.anchor_vertex, props.anchor_object) == ('VERTEX', 7, hand)
+    from bdinterp_blender.solve import anchor_choice
+    assert anchor_choice(props) == ("Hand", 7)
