@@ -179,7 +179,7 @@ def test_a_vertex_of_any_object_anchors_the_character_on_its_chord(addon, charac
     for name, t in zip(names, r.factors):
         assert np.linalg.norm(vertex(hand, name, 2) - ((1 - t) * src + t * tgt)) < 1e-6 * size
     frames = cb.in_world(objs, names)[0]
-    assert np.abs(frames - as_one_object(addon, objs, "Hand", 2, count=3)).max() < 1e-5 * size
+    assert np.abs(frames - as_one_object(addon, objs, "Hand", 2, count=3)).max() < EXACT * size
     # a vertex that does not move stays put (named by its object's name)
     r = addon.bake(order, cb.TARGET, count=3, anchor=("Torso", 40))
     for name in cb.baked(torso):
@@ -200,7 +200,7 @@ def test_a_vertex_of_any_object_follows_an_anchor_path(addon, character):
         assert np.linalg.norm(vertex(hand, name, 2) - along(points, t)) < 1e-6 * size, name
     frames = cb.in_world(objs, names)[0]
     one = as_one_object(addon, objs, "Hand", 2, count=3, anchor_path=path)
-    assert np.abs(frames - one).max() < 1e-5 * size
+    assert np.abs(frames - one).max() < EXACT * size
 
 
 @pytest.mark.parametrize("anchor, match", [
