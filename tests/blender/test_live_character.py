@@ -88,6 +88,20 @@ def test_live_character_survives_reload_and_follows_a_moved_object(addon, charac
     assert shown_error(objs, ref, 0, size) < EXACT
 
 
+def test_an_edited_key_of_another_object_is_noticed(addon, character):
+    objs, size = character
+    addon.set_live(objs, target=cb.TARGET, factor=0.5)
+    bpy.context.view_layer.update()  # live mode's own writes reported: only the edit is left
+    hand = objs[-1]
+    moved = cb.world(hand, cb.read(hand, cb.TARGET)) + [0.1, 0.0, 0.0]  # in the pieces' plane
+    m = np.array(hand.matrix_world)
+    local = np.linalg.solve(m[:3, :3], (moved - m[:3, 3]).T).T
+    hand.data.shape_keys.key_blocks[cb.TARGET].data.foreach_set("co", local.astype(np.float32).ravel())
+    hand.data.shape_keys.update_tag()
+    ref = reference_copy(addon, objs, (0.5,))
+    assert shown_error(objs, ref, 0, size) < EXACT
+
+
 def reference_copy(addon, objs, factors):
     """reference() of copies of objs (live mode keeps its own keys and settings as they are)."""
     copies = []
@@ -95,6 +109,7 @@ def reference_copy(addon, objs, factors):
         c = o.copy()
         c.data = o.data.copy()
         c.animation_data_clear()
+        c.bdi.live = False  # the copied settings would make the copy live too
         c.data.shape_keys.key_blocks[LIVE].value = 0.0
         bpy.context.scene.collection.objects.link(c)
         copies.append(c)
