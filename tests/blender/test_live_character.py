@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import ROOT, evaluated_co
+from conftest import ROOT, evaluated_co, fcurve
 
 sys.path.insert(0, os.path.join(ROOT, "examples", "cutout"))
 import cutout_blender as cb  # noqa: E402
@@ -61,7 +61,7 @@ def test_live_character_follows_the_factor_and_its_keyframes(addon, character):
     for frame, t in zip((1, 5, 9), FACTORS):  # keyframed (the frame-change handler)
         owner.bdi.live_factor = t
         owner.keyframe_insert("bdi.live_factor", frame=frame)
-    for kp in owner.animation_data.action.fcurves[0].keyframe_points:
+    for kp in fcurve(owner.animation_data, "bdi.live_factor").keyframe_points:
         kp.interpolation = 'CONSTANT'
     for i, frame in reversed(list(enumerate((1, 5, 9)))):
         bpy.context.scene.frame_set(frame)
