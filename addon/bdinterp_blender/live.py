@@ -80,6 +80,10 @@ def _signature(objs):
 def prepare_character(objs, settings):
     """The State of a character of several objects (objs[0] holds the settings and the factor),
     solved in world space as a bake solves it (character.CharacterInputs)."""
+    for other in objs[1:]:  # two live modes would write its live key in turn
+        if other.bdi.live:
+            raise BakeError("%s is in live mode of its own: switch that off to make it part of "
+                            "%s's live character" % (other.name, objs[0].name))
     path = bpy.data.objects.get(settings.path) if settings.path else None
     inp = character.CharacterInputs(objs, settings.source, settings.target, settings.anchor,
                                     settings.tolerance, settings.joints, path)

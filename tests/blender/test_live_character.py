@@ -136,8 +136,15 @@ def test_bake_live_of_a_character_bakes_it_and_removes_every_live_key(addon, cha
     assert shown_error(objs, ref, 1, size) < EXACT  # the slider holds the live factor, 0.5
 
 
-def test_a_live_pose_blend_of_a_character_is_refused(addon, character):
+def test_a_live_pose_blend_or_a_member_live_on_its_own_is_refused(addon, character):
     objs, _ = character
+    addon.set_live(objs[3], target=cb.TARGET, factor=0.5)
+    with pytest.raises(ValueError, match="EyeR is in live mode of its own: switch that off to "
+                                         "make it part of Torso's live character"):
+        addon.set_live(objs, target=cb.TARGET, factor=0.5)
+    assert not objs[0].bdi.live and len(objs[0].bdi.live_objects) == 0
+    addon.set_live(objs[3], enable=False)
+    objs[3].shape_key_remove(objs[3].data.shape_keys.key_blocks[LIVE])
     with pytest.raises(ValueError, match="live pose blend works for one object, not for a "
                                          "character of 7"):
         addon.set_live(objs, target=cb.TARGET, weights={cb.TARGET: 0.5})
