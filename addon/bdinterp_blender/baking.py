@@ -121,7 +121,8 @@ class BakeJob:
             max_distortion=max_distortion(inp.shapes[0], frames, inp.faces, inp.layers),
             input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
             folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
-            joints=stats.joints if stats else 0, joint_source=inp.joint_source if stats and stats.joints else "",
+            joints=stats.joints if stats else 0,
+            joint_source=inp.joint_source if stats and stats.joints else "",
             note="; ".join(text for text in (folds, note) if text),
             seconds=time.perf_counter() - self.started)
 

@@ -12,7 +12,8 @@ MODES = ("auto", "bones", "pins", "off")
 
 
 def joint_mode(joints):
-    """'auto', 'bones', 'pins' or 'off' of bake(..., joints=) (any case; True: 'auto', False: 'off')."""
+    """'auto', 'bones', 'pins' or 'off' of bake(..., joints=) (any case; True: 'auto', False:
+    'off'); BakeError otherwise."""
     if isinstance(joints, bool) or type(joints).__name__ == "bool_":
         return "auto" if joints else "off"
     if isinstance(joints, str) and joints.lower() in MODES:
