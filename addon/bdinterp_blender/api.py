@@ -27,7 +27,7 @@ __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
              anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-             joints=True):
+             joints="auto"):
     """The validated BakeJob of a bake (parameters as in bake()), not yet computed: one object's,
     or, for a list of objects of which several have the target key, the character's."""
     if isinstance(obj, (list, tuple)):
@@ -43,7 +43,7 @@ def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", a
 
 def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINEAR",
                    anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                   progress=None, joints=True):
+                   progress=None, joints="auto"):
     """Compute in-betweens without writing anything.
 
     Returns (inputs, positions, factors, frames) with frames a (k, n, 3) float64 array in the
@@ -58,7 +58,7 @@ def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINE
 
 def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
          anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-         progress=None, joints=True):
+         progress=None, joints="auto"):
     """Bake in-betweens of `source` -> `target` into new shape keys; return a BakeResult.
 
     obj: mesh object with shape keys, or a list of them: those that have the target key are
@@ -71,8 +71,11 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     or (object, vertex index) (a character: of any of its objects); anchor_path: a curve object
     the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  tolerance: planarity,
     relative to the mesh size.  progress(done, total): called after each chunk of frames;
-    returning False cancels (BakeError, nothing written).  joints: pieces (loose parts) that
-    overlap stay joined where they are pinned (docs/JOINTS.md); False places each on its own.
+    returning False cancels (BakeError, nothing written).  joints: how pieces (loose parts)
+    are joined (docs/JOINTS.md): 'bones' (each piece hangs from the piece of its bone's parent,
+    pinned at the bone's head: an Armature modifier's vertex groups or a parent bone), 'pins'
+    (overlapping pieces that turn about a common point in both keys), 'auto' (bones where every
+    piece has one, else pins; also True) or 'off' (each piece on its own rigid path; also False).
 
     Keys are named '<target>.bdi.<percent>' (e.g. 'Arm_up.bdi.050'), hold the in-between shape
     and are relative to the source key; an earlier bake of the same pair is replaced (also
@@ -88,7 +91,7 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
 
 
 def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
-          tolerance=DEFAULT_TOLERANCE, joints=True):
+          tolerance=DEFAULT_TOLERANCE, joints="auto"):
     """Bake a pose blend (paper Section 5): one key `name`, relative to the source.
 
     weights: {pose key name: weight}; see pose_weights() for how the source's weight follows.
@@ -258,7 +261,7 @@ def remove_export_bake(objs):
 
 
 def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_path=None,
-                        tolerance=DEFAULT_TOLERANCE, joints=True):
+                        tolerance=DEFAULT_TOLERANCE, joints="auto"):
     """The in-between factors (sorted, in (0, 1)) of the fewest keys whose linear blend stays
     within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
     source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At

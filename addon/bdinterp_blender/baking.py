@@ -20,6 +20,7 @@ class BakeResult:
     def __init__(self, **kw):
         self.folded, self.seconds, self.note, self.joints, self.objects = [], 0.0, "", 0, 1
         self.folded_name = ""  # how to name folded[0] (several objects: with its object)
+        self.joint_source = ""  # where the joints came from ("bones of 'Rig'"); "" found from the keys
         self.__dict__.update(kw)
 
     @property
@@ -31,6 +32,7 @@ class BakeResult:
             text += " in %d objects" % self.objects
         if self.joints:
             text += "; %d joint%s between pieces" % (self.joints, "" if self.joints == 1 else "s")
+            text += " (%s)" % self.joint_source if self.joint_source else ""
         if self.folded:
             text += "; %d folded polygons (e.g. %s)" % (len(self.folded), self.folded_name
                                                          or "polygon %d" % self.folded[0])
@@ -41,7 +43,7 @@ class BakeResult:
         return {"keys": len(self.keys), "source": self.source, "target": self.target,
                 "max_distortion": self.max_distortion, "input_distortion": self.input_distortion,
                 "folded": len(self.folded), "seconds": round(self.seconds, 3), "note": self.note,
-                "joints": self.joints, "objects": self.objects}
+                "joints": self.joints, "joint_source": self.joint_source, "objects": self.objects}
 
     def __repr__(self):
         return "BakeResult(%s)" % self.message
@@ -53,7 +55,7 @@ class BakeJob:
 
     def __init__(self, obj, target, source=None, count=3, factors=None, easing="LINEAR",
                  anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                 drivers=True, joints=True):
+                 drivers=True, joints="auto"):
         self.started = time.perf_counter()
         self.positions, ts = timing.schedule(count, factors, easing)
         self.inp = self.inputs(obj, source, target, anchor, anchor_path, tolerance, joints)
@@ -120,6 +122,7 @@ class BakeJob:
             input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
             folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
             joints=stats.joints if stats else 0,
+            joint_source=inp.joint_source if stats and stats.joints else "",
             note="; ".join(text for text in (folds, note) if text),
             seconds=time.perf_counter() - self.started)
 

@@ -5,7 +5,7 @@ different objects overlap and are joined like pieces of one object; each object'
 are written back in its own local coordinates, driven by one slider on the active object.
 """
 
-from . import solve
+from . import rig, solve
 from .baking import BakeJob, store_result
 from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE
@@ -39,14 +39,14 @@ class CharacterInputs(solve.Inputs):
     object (the active one, whose slider plays the bake)."""
 
     def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
-                 joints=True, anchor_path=None):
+                 joints="auto", anchor_path=None):
         import numpy as np
-        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, joints)
+        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, "off")
                       for obj in objs]
         first = self.parts[0]
         self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
         self.obj_name = "character of %d objects" % len(objs)
-        self.names, self.joints = first.names, bool(joints)
+        self.names, self.joint_mode = first.names, rig.joint_mode(joints)
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
         # the shapes are in world space: so is the anchor path (no object's matrix)
         self.anchor = solve.resolve_anchor(None, self.stacked_vertex(anchor), anchor_path, 1)
@@ -59,6 +59,9 @@ class CharacterInputs(solve.Inputs):
         world = [np.concatenate([to_world(p.obj, p.shapes[i]) for p in self.parts])
                  for i in range(len(self.names))]
         self.shapes = self.layered(world, tolerance)
+        self.joints, self.joint_source = self.find_joints([rig.Member(
+            p.obj, int(o), p.source_read, lambda x, obj=p.obj: to_world(obj, x),
+            lambda p=p: p.reference_shape(p.obj)) for p, o in zip(self.parts, self.offsets)])
 
     def stacked_vertex(self, anchor):
         """The character's vertex index of `anchor`: 'AUTO'/None (None), (object or its name,
@@ -113,7 +116,7 @@ class CharacterBakeJob(BakeJob):
 
     def __init__(self, objs, target, source=None, count=3, factors=None, easing="LINEAR",
                  anchor="AUTO", method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-                 joints=True, anchor_path=None):
+                 joints="auto", anchor_path=None):
         self._objs = members(objs, target)
         super().__init__(self._objs[0], target, source, count, factors, easing, anchor, anchor_path,
                          method, tolerance, drivers, joints)

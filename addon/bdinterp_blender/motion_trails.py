@@ -27,7 +27,7 @@ class Path:
             source = props.source if props is not None else None
         self.method = props.method if props is not None else "bdi"
         tolerance = props.tolerance if props is not None else DEFAULT_TOLERANCE
-        joints = props.joints if props is not None else True
+        joints = props.joints if props is not None else "auto"
         members = character.members(objs, target) if len(objs) > 1 else objs
         if len(members) > 1:
             self.inp = character.CharacterInputs(members, source, target, "AUTO", tolerance, joints)

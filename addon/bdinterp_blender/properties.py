@@ -79,9 +79,15 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                              update=_live_changed,
                              description="Allowed distance of a key from the plane, relative to "
                                          "the mesh size")
-    joints: BoolProperty(name="Joints", default=True, update=_live_changed,
-                         description="Keep pieces that overlap joined where they are pinned: each "
-                                     "child piece is placed where its parent carries the joint")
+    # numbered so that a file saved with the on/off switch reads on as AUTO, off as OFF
+    joints: EnumProperty(name="Joints", default='AUTO', update=_live_changed, items=[
+        ('AUTO', "Auto", "The armature's bones where every piece has a bone, else pins found "
+                         "from the keys", 1),
+        ('BONES', "Bones", "Each piece hangs from the piece of its bone's parent, pinned at the "
+                           "bone's head (Armature modifier's vertex groups, or a parent bone)", 3),
+        ('PINS', "Pins", "Pieces that overlap and turn about a common point in both keys stay "
+                         "joined there", 2),
+        ('OFF', "Off", "Each piece follows its own rigid path", 0)])
     drivers: BoolProperty(name="Playback Slider", default=True,
                           description="Drive the baked keys from one slider with native drivers")
     poses: CollectionProperty(type=BDI_PoseItem)

@@ -6,7 +6,7 @@ InvalidInputError points (its shape, face = a triangle, vertex) into Blender's t
 polygon indices).
 """
 
-from . import mesh_io
+from . import mesh_io, rig
 from .mesh_io import BakeError
 from .names import CHUNK, DEFAULT_TOLERANCE
 
@@ -24,7 +24,7 @@ class Inputs:
     """
 
     def __init__(self, obj, source, others, anchor="AUTO", anchor_path=None,
-                 tolerance=DEFAULT_TOLERANCE, joints=True):
+                 tolerance=DEFAULT_TOLERANCE, joints="auto"):
         self.obj, self.obj_name = obj, obj.name if obj is not None else "No object"
         self.key = mesh_io.key_of(obj)
         self.source = mesh_io.key_block(self.key, source)
@@ -37,12 +37,24 @@ class Inputs:
             if kb == self.source:
                 raise BakeError("target %r is the source key; pick another target" % kb.name)
         blocks = [self.source] + self.others
-        self.names, self.joints = [kb.name for kb in blocks], bool(joints)
+        self.names, self.joint_mode = [kb.name for kb in blocks], rig.joint_mode(joints)
         self.raw = [mesh_io.read_raw(kb) for kb in blocks]
         self.faces, self.poly = mesh_io.triangles(obj.data)
-        self.shapes = self.layered([mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)],
-                                   tolerance)
+        read = [mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)]
+        self.source_read = read[0]  # as read, before layering: the bones' pins are mapped onto it
+        self.shapes = self.layered(read, tolerance)
         self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
+        self.joints, self.joint_source = self.find_joints([rig.Member(
+            obj, 0, self.source_read, lambda p: p, lambda: self.reference_shape(obj))])
+
+    def find_joints(self, members):
+        """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints)."""
+        return rig.core_joints(self.joint_mode, members, self.layers.labels)
+
+    def reference_shape(self, obj):
+        """(n, 3) obj's reference key as Blender shows it, in its local coordinates."""
+        kb = self.key.reference_key
+        return mesh_io.read_shown(obj, kb, mesh_io.read_raw(kb))
 
     def layered(self, shapes, tolerance):
         """shapes with every piece put into its plane (mesh_io.project_layers; self.layers: their

@@ -184,7 +184,8 @@ def draw_result(layout, text, width):
     if r.get("objects", 1) > 1:
         col.label(text="Objects: %d (one character)" % r["objects"])
     if r.get("joints"):
-        col.label(text="Joints between pieces: %d" % r["joints"])
+        col.label(text="Joints between pieces: %d%s" % (r["joints"], " (%s)" % r["joint_source"]
+                                                          if r.get("joint_source") else ""))
     col.label(text="Time: %.2f s" % r["seconds"])
     if r.get("note"):
         draw_message(col, r["note"], icon='INFO', width=width - 2)

@@ -73,7 +73,7 @@ def test_joints_switched_off_in_the_panel_open_the_chain(addon, character):
     # = 240 degrees in all, takes the short way (-120) and leaves the elbow.
     pieces, joints, size = character
     obj, ranges = cb.one_object(pieces)
-    obj.bdi.target, obj.bdi.count, obj.bdi.joints = cb.TARGET, COUNT, False
+    obj.bdi.target, obj.bdi.count, obj.bdi.joints = cb.TARGET, COUNT, 'OFF'
     assert bpy.ops.bdinterp.bake() == {'FINISHED'}
     assert json.loads(obj.bdi.result)["joints"] == 0
     opening = cb.openings([obj], ranges, joints, size, cb.baked(obj))
