@@ -13,7 +13,7 @@ import mathutils
 import numpy as np
 import pytest
 
-from conftest import ROOT, evaluated_co, mesh_object
+from conftest import ROOT, add_key, evaluated_co, mesh_object
 
 sys.path.insert(0, os.path.join(ROOT, "tests", "python"))
 from cutout_meshes import rectangle  # noqa: E402
@@ -45,8 +45,7 @@ def armature():
 
 def pieces(arm, parented=False):
     """One object per piece, at depth 0.01 per piece in draw order, its vertices all in its
-    bone's vertex group, an Armature modifier (parented: the object's parent is its bone); a
-    Basis key."""
+    bone's vertex group, an Armature modifier (parented: the object's parent is its bone)."""
     objs = []
     for k, name in enumerate(NAMES):
         V, F = rectangle(*RIG[name][0], 0.2, seed=k)
@@ -58,7 +57,6 @@ def pieces(arm, parented=False):
         else:
             obj.vertex_groups.new(name=name).add(list(range(len(V))), 1.0, 'REPLACE')
             obj.modifiers.new("Armature", 'ARMATURE').object = arm
-        obj.shape_key_add(name="Basis")
         objs.append(obj)
     return objs
 
@@ -95,7 +93,7 @@ def character(angles, one_object=False, more=None, parented=False):
         for obj, X in zip(objs, posed):
             m = np.linalg.inv(np.array(obj.matrix_world))
             co = X @ m[:3, :3].T + m[:3, 3]
-            obj.shape_key_add(name=key).data.foreach_set("co", co.astype(np.float32).ravel())
+            add_key(obj, key, co)
     if one_object:
         bpy.ops.object.select_all(action='DESELECT')
         for obj in objs:
