@@ -53,6 +53,11 @@ def prepare(obj, settings, objs=None):
     objs = character_objects(obj, settings.target) if objs is None else objs
     if len(objs) > 1 and settings.mode != 'BLEND':
         return prepare_character(objs, settings)
+    owner = next((o for o in bpy.data.objects if o != obj and getattr(o, "bdi", None) is not None
+                  and o.bdi.live and any(m.obj == obj for m in o.bdi.live_objects)), None)
+    if owner is not None:  # two live modes would write its live key in turn
+        raise BakeError("%s is part of %s's live character: switch that off first"
+                        % (obj.name, owner.name))
     if settings.mode == 'BLEND':
         if not settings.poses:
             raise BakeError("%s: live pose blend has no poses; add some under Pose Blend" % obj.name)

@@ -145,6 +145,14 @@ def test_a_live_pose_blend_or_a_member_live_on_its_own_is_refused(addon, charact
     assert not objs[0].bdi.live and len(objs[0].bdi.live_objects) == 0
     addon.set_live(objs[3], enable=False)
     objs[3].shape_key_remove(objs[3].data.shape_keys.key_blocks[LIVE])
+    addon.set_live(objs, target=cb.TARGET, factor=0.5)  # and the other way round
+    with pytest.raises(ValueError, match="EyeR is part of Torso's live character: switch that "
+                                         "off first"):
+        addon.set_live(objs[3], target=cb.TARGET, factor=0.2)
+    assert not objs[3].bdi.live
+    addon.set_live(objs[0], enable=False)
+    for o in objs:
+        o.shape_key_remove(o.data.shape_keys.key_blocks[LIVE])
     with pytest.raises(ValueError, match="live pose blend works for one object, not for a "
                                          "character of 7"):
         addon.set_live(objs, target=cb.TARGET, weights={cb.TARGET: 0.5})
