@@ -41,8 +41,8 @@ class CharacterInputs(solve.Inputs):
     def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
                  joints="auto", anchor_path=None):
         import numpy as np
-        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, "off")
-                      for obj in objs]
+        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, "off",
+                                   layered=False) for obj in objs]
         first = self.parts[0]
         self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
         self.obj_name = "character of %d objects" % len(objs)

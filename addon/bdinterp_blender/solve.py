@@ -24,7 +24,7 @@ class Inputs:
     """
 
     def __init__(self, obj, source, others, anchor="AUTO", anchor_path=None,
-                 tolerance=DEFAULT_TOLERANCE, joints="auto"):
+                 tolerance=DEFAULT_TOLERANCE, joints="auto", layered=True):
         self.obj, self.obj_name = obj, obj.name if obj is not None else "No object"
         self.key = mesh_io.key_of(obj)
         self.source = mesh_io.key_block(self.key, source)
@@ -42,10 +42,14 @@ class Inputs:
         self.faces, self.poly = mesh_io.triangles(obj.data)
         read = [mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)]
         self.source_read = read[0]  # as read, before layering: the bones' pins are mapped onto it
-        self.shapes = self.layered(read, tolerance)
+        # layered=False: shapes as read, for a caller that lays out several objects' at once
+        self.layers, self.shapes = None, read
+        if layered:
+            self.shapes = self.layered(read, tolerance)
         self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
         self.joints, self.joint_source = self.find_joints([rig.Member(
-            obj, 0, self.source_read, lambda p: p, lambda: self.reference_shape(obj))])
+            obj, 0, self.source_read, lambda p: p, lambda: self.reference_shape(obj))]) \
+            if layered else (False, "")
 
     def find_joints(self, members):
         """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints)."""
@@ -94,7 +98,7 @@ class Inputs:
         """A precomputed bdinterp.Interpolator of these shapes (base: the source)."""
         try:
             return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0,
-                                       joints=self.joints)
+                                       joints=self.joints, layers=self.layers)
         except ValueError as exc:
             raise self.explain(exc) from exc
 

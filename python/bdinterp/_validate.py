@@ -128,13 +128,14 @@ def times(ts, name="ts"):
     return a
 
 
-def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE, mesh_faces=None):
+def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE, mesh_faces=None, layers=None):
     """Validates k shapes of equal size; returns (list of (n, 2) arrays, Plane, Layers or None).
 
     2D shapes pass through unchanged (no copy when already C-contiguous float64; Plane and Layers
     None). 3D shapes without mesh_faces must all lie in the plane of shapes[base] (Layers None); with
     mesh_faces (m, 3) (validated here), each loose part may lie in its own plane parallel to the others (Layers.fit).
-    Their plane coordinates are returned with the common plane.
+    Their plane coordinates are returned with the common plane. layers: Layers the caller fitted
+    to these 3D shapes (with its own tolerance): used as they are, not fitted again.
     """
     if isinstance(shapes, np.ndarray) and shapes.ndim == 3:
         shapes = list(shapes)
@@ -149,7 +150,11 @@ def planar_shapes(shapes, base=0, tolerance=PLANAR_TOLERANCE, mesh_faces=None):
         if s.shape != (n, d):
             raise invalid(f"has shape {s.shape}, shape 0 has {(n, d)}", shape=i)
     if d == 2:
+        if layers is not None:
+            raise ValueError("layers are for 3D shapes; these are 2D")
         return [np.ascontiguousarray(s) for s in shapes], None, None
+    if layers is not None:
+        return layers.check(shapes).to_plane(shapes), layers.plane, layers
     if mesh_faces is None:
         plane = Plane.fit(shapes[base])
         return [plane.to_plane(s, f"shape {i}", tolerance, shape=i) for i, s in enumerate(shapes)], plane, None

@@ -6,10 +6,11 @@ METHODS = ("bdi", "arap", "linear")
 METHOD_LABELS = {"bdi": "BDI (bounded distortion)", "arap": "ARAP (Alexa 2000)",
                  "linear": "linear blend"}
 
-# Relative out-of-plane tolerance for 3D input, as a fraction of the shape's largest extent: Blender
-# stores float32 coordinates, whose rounding moves a rotated planar mesh off its plane by ~1e-7 of
-# its size.
-PLANAR_TOLERANCE = 1e-5
+# Planarity: how far a vertex of 3D input may lie off its piece's plane, as a fraction of the shape's
+# largest extent; the package's and the Blender add-on's default (addon names.DEFAULT_TOLERANCE).
+# Blender's float32 rounding moves a rotated planar mesh off its plane by ~1e-7 of its size; an
+# animator's hand-placed pieces by more.
+PLANAR_TOLERANCE = 1e-4
 
 # Interpolator defaults: the angle-sum tolerance max |2 pi - angle sum| (radians), the Newton
 # iteration cap, and the thread count (0 = one per core).

@@ -7,7 +7,7 @@ import numpy as np
 from . import _core
 from . import _validate
 from . import keyframes as _keyframes
-from .constants import INT_MAX, MAX_ITERATIONS, METHODS, THREADS, TOLERANCE
+from .constants import INT_MAX, MAX_ITERATIONS, METHODS, PLANAR_TOLERANCE, THREADS, TOLERANCE
 
 
 @dataclass
@@ -120,7 +120,9 @@ class Interpolator:
     relative to it (docs/JOINTS.md; stats.joints counts them, joints() lists them); a sequence of
     (parent vertex, child vertex, point) links: that tree as given (e.g. an armature's bones; each
     piece by any of its vertices, point in the base shape like the shapes' coordinates); False:
-    every piece is placed on its own.
+    every piece is placed on its own. planarity: for 3D shapes, how far (relative to a shape's
+    largest extent) a vertex may lie off its piece's plane; layers: the Layers of 3D shapes the
+    caller has fitted already (e.g. Layers.fit with its own planarity), used without a second fit.
 
     Thread-safe: calls from several threads on one Interpolator are serialised (a per-object lock,
     taken with the GIL released); each returns what it would have returned alone.
@@ -128,8 +130,10 @@ class Interpolator:
 
     def __init__(self, shapes, faces, *, anchor=None, base=0, tol=TOLERANCE,
                  max_iterations=MAX_ITERATIONS, threads=THREADS, strict=False, folds=True,
-                 joints=True):
-        shapes2d, self._plane, self._layers = _validate.planar_shapes(shapes, base, mesh_faces=faces)
+                 joints=True, planarity=PLANAR_TOLERANCE, layers=None):
+        planarity = _validate.positive(planarity, "planarity")
+        shapes2d, self._plane, self._layers = _validate.planar_shapes(
+            shapes, base, planarity, mesh_faces=faces, layers=layers)
         self._n = shapes2d[0].shape[0]
         self._k = len(shapes2d)
         f = _validate.faces(faces, self._n)

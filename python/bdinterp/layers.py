@@ -7,7 +7,7 @@ import numpy as np
 
 from .constants import PLANAR_TOLERANCE
 from .errors import invalid
-from .plane import Plane, total_signed_area
+from .plane import Plane
 
 
 def piece_labels(num_vertices, faces):
@@ -51,10 +51,8 @@ class Layers:
         means = np.zeros((labels.max() + 1, 3))
         np.add.at(means, labels, B)
         means /= np.bincount(labels)[:, None]
-        _, _, vt = np.linalg.svd(B - means[labels], full_matrices=False)
-        plane = Plane(B.mean(axis=0), vt[:2].copy(), np.cross(vt[0], vt[1]))
-        if total_signed_area(plane.to_plane(B, "points", np.inf), faces) < 0:
-            plane = plane.flipped()
+        # pieces moved onto one plane through their common mean: Plane's fit of parallel planes
+        plane = Plane.fit(B - means[labels] + B.mean(axis=0), faces)
         depth = np.stack([cls._depths(plane, labels, X, i, tolerance)
                           for i, X in enumerate(shapes)])
         return cls(plane, labels, depth)
@@ -76,6 +74,14 @@ class Layers:
                 f"to the plane of the base shape's pieces (tolerance {tolerance:g} x size {size:.3g} "
                 f"= {tolerance * size:.3g})", shape=shape, vertex=worst)
         return depth
+
+    def check(self, shapes, name="layers"):
+        """ValueError unless these Layers fit k shapes (n, 3): n labels, one depth row per shape."""
+        n, k = len(shapes[0]), len(shapes)
+        if len(self.labels) != n or self.depth.shape[0] != k:
+            raise ValueError(f"{name} are of {self.depth.shape[0]} shapes of {len(self.labels)} "
+                             f"vertices, not of {k} shapes of {n}")
+        return self
 
     def to_plane(self, shapes):
         """[(n, 2)] plane coordinates of shapes (n, 3) (depths dropped; checked by fit())."""

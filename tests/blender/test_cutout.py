@@ -98,10 +98,14 @@ def test_a_piece_not_parallel_is_refused_and_named(addon, character):
     assert state([obj]) == before
 
 
-def test_seven_objects_bake_as_one_character(addon, character):
+def test_seven_objects_bake_as_one_character(addon, bd, character, monkeypatch):
     pieces, joints, size = character
     objs = cb.seven_objects(pieces)
+    fits = []
+    fit = bd.Layers.fit
+    monkeypatch.setattr(bd.Layers, "fit", lambda *a, **kw: fits.append(1) or fit(*a, **kw))
     result = addon.bake(objs, target=cb.TARGET, count=COUNT)
+    assert len(fits) == 1  # the layers are fitted once (the keys, the solver, the distortion)
     assert (result.objects, result.joints) == (7, 6)
     names = cb.baked(objs[0])
     assert len(names) == COUNT and all(cb.baked(o) == names for o in objs)

@@ -63,9 +63,9 @@ def test_trails_of_the_seven_object_character_are_the_characters_frames(addon, b
     _, ranges, _ = cb.in_world(objs, ["Basis", cb.TARGET])
     offsets = np.cumsum([0] + [len(o.data.vertices) for o in objs])
     tris = np.concatenate([triangles(o) + a for o, a in zip(objs, offsets)])
-    # each object's keys read as its own layered mesh, then all in world coordinates
-    own = [layered(bd, [read_key(o, "Basis"), read_key(o, cb.TARGET)], triangles(o)) for o in objs]
-    shapes = [np.concatenate([world(o.matrix_world, x[i]) for o, x in zip(objs, own)]) for i in (0, 1)]
+    # every object's keys in world coordinates, layered as one mesh (core_frames)
+    shapes = [np.concatenate([world(o.matrix_world, read_key(o, k)) for o in objs])
+              for k in ("Basis", cb.TARGET)]
     size = cb.size_of(pieces)
     points = addon.trails(objs, samples=17)
     from bdinterp_blender import motion_trails

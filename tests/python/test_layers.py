@@ -80,3 +80,33 @@ def test_a_piece_in_a_plane_that_is_not_parallel_is_named(shoulder):
 def test_piece_labels_follow_the_faces():
     F = np.array([[0, 1, 2], [5, 6, 7], [2, 3, 1], [7, 8, 6]])
     np.testing.assert_array_equal(bdinterp.layers.piece_labels(10, F), [0, 0, 0, 0, 1, 2, 2, 2, 2, 3])
+
+
+def test_layers_fitted_by_the_caller_are_used_as_they_are(shoulder):
+    # One fit: an application that fitted the layers with its own planarity passes them on.
+    ch, T = shoulder
+    shapes = [lift(ch, ch.V, [0, 0.02]), lift(ch, T, [0, 0.02])]
+    layers = bdinterp.Layers.fit(shapes, ch.F, tolerance=1e-3)
+    given = bdinterp.Interpolator(shapes, ch.F, layers=layers)
+    assert given.layers is layers
+    fitted = bdinterp.Interpolator(shapes, ch.F)
+    np.testing.assert_allclose(given.frames([0.3, 0.7]), fitted.frames([0.3, 0.7]), rtol=0, atol=1e-12)
+    with pytest.raises(ValueError, match="layers are of 2 shapes of %d vertices, not of 3 shapes"
+                       % len(ch.V)):
+        bdinterp.Interpolator(shapes + [shapes[1]], ch.F, layers=layers)
+    with pytest.raises(ValueError, match="layers are for 3D shapes"):
+        bdinterp.Interpolator([ch.V, T], ch.F, layers=layers)
+
+
+def test_planarity_is_one_setting(shoulder):
+    # A vertex 3e-4 of the size off its piece's plane: refused by default (1e-4), taken at 1e-3.
+    ch, T = shoulder
+    shapes = [lift(ch, ch.V, [0, 0.02]), lift(ch, T, [0, 0.02])]
+    size = np.ptp(shapes[1], axis=0).max()
+    shapes[1][7] += 3e-4 * size * NORMAL
+    assert bdinterp.PLANAR_TOLERANCE == 1e-4
+    with pytest.raises(ValueError, match="shape 1, vertex 7: not planar"):
+        bdinterp.Interpolator(shapes, ch.F)
+    assert bdinterp.Interpolator(shapes, ch.F, planarity=1e-3).layers is not None
+    with pytest.raises(ValueError, match="planarity must be > 0"):
+        bdinterp.Interpolator(shapes, ch.F, planarity=0)
