@@ -2,7 +2,7 @@
 
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
-Modules import one way: core (loader) -> names, timing, mesh_io -> rig (joints from bones) -> solve
+Modules import one way: core (loader) -> names, timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve
 (shapes -> frames, no writes) -> playback, live, distortion, sprite_mesh, baking (each writes one kind of thing) -> character
 (several objects baked as one) -> api (the scripting facade) -> properties, operators -> ui ->
 this file (registration).
@@ -10,7 +10,7 @@ this file (registration).
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "timing", "mesh_io", "rig", "solve", "playback", "live", "distortion",
+    for _name in ("core", "names", "actions", "timing", "mesh_io", "rig", "settings", "solve", "playback", "live", "distortion",
                   "baking", "export", "character", "sprite_mesh", "layered_import", "motion_trails", "api",
                   "properties", "overlay", "onion", "drawing_bind", "operators", "ui"):
         if _name in locals():

@@ -19,30 +19,34 @@ from . import baking, character, distortion, export, live, mesh_io, playback, so
 from .baking import BakeJob, BakeResult, run, write_key
 from .mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
+from .settings import BakeSettings, anchor_choice
 from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
 __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
-           "hide_distortion", "bake_for_export", "remove_export_bake", "error_bound_factors", "BakeJob", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
+           "hide_distortion", "bake_for_export", "remove_export_bake", "error_bound_factors", "job_of", "BakeJob", "BakeSettings", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
-             anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
+             anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
              joints="auto"):
     """The validated BakeJob of a bake (parameters as in bake()), not yet computed: one object's,
     or, for a list of objects of which several have the target key, the character's."""
+    return job_of(obj, BakeSettings(target, source, count, factors, easing, anchor, anchor_path,
+                                    method, planarity, drivers, joints))
+
+
+def job_of(obj, settings):
+    """The BakeJob of settings (a BakeSettings) for obj or a list of objects (see bake_job)."""
     if isinstance(obj, (list, tuple)):
-        objs = character.members(obj, target)
+        objs = character.members(obj, settings.target)
         if len(objs) > 1:
-            return character.CharacterBakeJob(objs, target, source, count, factors, easing,
-                                              anchor, method, tolerance, drivers, joints,
-                                              anchor_path=anchor_path)
+            return character.CharacterBakeJob(objs, settings)
         obj = objs[0] if objs else (obj[0] if obj else None)  # its own errors say what is wrong
-    return BakeJob(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   tolerance, drivers, joints)
+    return BakeJob(obj, settings)
 
 
 def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINEAR",
-                   anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
+                   anchor="AUTO", anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE,
                    progress=None, joints="auto"):
     """Compute in-betweens without writing anything.
 
@@ -51,13 +55,13 @@ def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINE
     after the other, inputs.offsets where each begins).  Parameters as in bake().
     """
     job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   tolerance, True, joints)
+                   planarity, True, joints)
     run(job, progress)
     return job.inp, job.positions, job.factors, job.job.frames()
 
 
 def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
-         anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
+         anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
          progress=None, joints="auto"):
     """Bake in-betweens of `source` -> `target` into new shape keys; return a BakeResult.
 
@@ -69,8 +73,8 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     easing: 'LINEAR', 'EASE_IN', 'EASE_OUT', 'EASE_IN_OUT' or a callable u -> t (custom curve).
     anchor: 'AUTO', a vertex index or a vertex group name (a character: of its first object),
     or (object, vertex index) (a character: of any of its objects); anchor_path: a curve object
-    the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  tolerance: planarity,
-    relative to the mesh size.  progress(done, total): called after each chunk of frames;
+    the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  planarity: how far
+    a vertex may lie off its piece's plane, relative to the mesh size.  progress(done, total): called after each chunk of frames;
     returning False cancels (BakeError, nothing written).  joints: how pieces (loose parts)
     are joined (docs/JOINTS.md): 'bones' (each piece hangs from the piece of its bone's parent,
     pinned at the bone's head: an Armature modifier's vertex groups or a parent bone), 'pins'
@@ -85,13 +89,13 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     only if that has no keyframes, driver or value of its own (else a copy, result.note says so).
     """
     job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   tolerance, drivers, joints)
+                   planarity, drivers, joints)
     run(job, progress)
     return job.finish()
 
 
 def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
-          tolerance=DEFAULT_TOLERANCE, joints="auto"):
+          planarity=DEFAULT_TOLERANCE, joints="auto"):
     """Bake a pose blend (paper Section 5): one key `name`, relative to the source.
 
     weights: {pose key name: weight}; see pose_weights() for how the source's weight follows.
@@ -99,17 +103,16 @@ def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
     """
     started = time.perf_counter()
     names, ws = pose_weights(weights)
-    inp = Inputs(obj, source, names, anchor, None, tolerance, joints)
-    result = solve.blend_shape(inp, ws, inp.interpolator())
-    k_out = max_distortion(inp.shapes[0], [result], inp.faces, inp.layers)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
-    folded = solve.folded_polygons(inp, [result])
+    settings = BakeSettings(source=source, anchor=anchor, planarity=planarity, joints=joints)
+    inp = Inputs(obj, settings, names)
+    solver = inp.interpolator()
+    result = solve.blend_shape(inp, ws, solver)
+    measures = baking.measures(inp, [result], solver)
     written = write_key(obj, name, inp.source.name, result)
     baking.store_result(obj, BakeResult(
         keys=[written], source=inp.source.name, target="blend of " + ", ".join(names),
-        max_distortion=k_out, input_distortion=k_in, folded=folded,
-        seconds=time.perf_counter() - started).summary())
-    return written, k_out, k_in
+        seconds=time.perf_counter() - started, **measures).summary())
+    return written, measures["max_distortion"], measures["input_distortion"]
 
 
 def clear(obj, target, source=None):
@@ -166,11 +169,10 @@ def _live_request(props, target, factor, items, source, anchor):
     mode = 'BLEND' if items is not None else ('INTERPOLATE' if target is not None else props.live_mode)
     if items is None:
         items = [(p.key, p.weight) for p in props.poses]
-    settings = live.settings_of(props)._replace(
-        mode=mode, source=props.source if source is None else source,
+    settings = live.settings_of(
+        props, mode=mode, source=props.source if source is None else source,
         target=props.target if target is None else target,
-        poses=tuple(name for name, _ in items) if mode == 'BLEND' else (),
-        anchor=solve.anchor_choice(props, anchor))
+        poses=tuple(name for name, _ in items), anchor=anchor_choice(props, anchor))
     if mode == 'BLEND':
         return settings, tuple(float(w) for _, w in items)
     return settings, (float(props.live_factor if factor is None else factor),)
@@ -225,7 +227,7 @@ def bake_live(obj, count=None):
         and props.live_mode != 'BLEND' else []
     if not objs:
         return baking.bake_live(obj, count)
-    result = baking.bake_live(obj, count, job_of=lambda _obj, *args: bake_job(objs, *args))
+    result = baking.bake_live(obj, count, job_of=lambda _obj, settings: job_of(objs, settings))
     live.remove_keys(objs[1:])
     return result
 
@@ -261,12 +263,12 @@ def remove_export_bake(objs):
 
 
 def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_path=None,
-                        tolerance=DEFAULT_TOLERANCE, joints="auto"):
+                        planarity=DEFAULT_TOLERANCE, joints="auto"):
     """The in-between factors (sorted, in (0, 1)) of the fewest keys whose linear blend stays
     within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
     source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At
     least one: the middle, where the blend of source and target alone is within the bound."""
-    job = bake_job(obj, target, source, 1, None, "LINEAR", anchor, anchor_path, "bdi", tolerance,
+    job = bake_job(obj, target, source, 1, None, "LINEAR", anchor, anchor_path, "bdi", planarity,
                    True, joints)
     keys = job.inp.interpolator().keyframes(error)
     return [float(t) for t in keys[1:-1]] or [0.5]

@@ -8,7 +8,8 @@ import json
 import time
 
 from . import actions, mesh_io, playback, solve, timing
-from .names import DEFAULT_TOLERANCE, LIVE_KEY
+from .names import LIVE_KEY
+from .settings import from_props
 from .solve import Inputs, max_distortion
 
 
@@ -53,20 +54,18 @@ class BakeJob:
     """A validated bake, computed chunk by chunk (step()) and written only by finish(): the
     operator steps it from a timer so that Esc can cancel with nothing written."""
 
-    def __init__(self, obj, target, source=None, count=3, factors=None, easing="LINEAR",
-                 anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                 drivers=True, joints="auto"):
-        self.started = time.perf_counter()
-        self.positions, ts = timing.schedule(count, factors, easing)
-        self.inp = self.inputs(obj, source, target, anchor, anchor_path, tolerance, joints)
+    def __init__(self, obj, settings):
+        self.started, self.settings = time.perf_counter(), settings
+        self.positions, ts = timing.schedule(settings.count, settings.factors, settings.easing)
+        self.inp = self.inputs(obj, settings)
         self.names = timing.key_names(self.inp.others[0].name, ts)
-        self.factors, self.drivers = ts, drivers
-        self.job = solve.FrameJob(self.inp, ts, method)
+        self.factors, self.drivers = ts, settings.drivers
+        self.job = solve.FrameJob(self.inp, ts, settings.method)
 
     @staticmethod
-    def inputs(obj, source, target, anchor, anchor_path, tolerance, joints):
+    def inputs(obj, settings):
         """The validated Inputs of the bake (a character of several objects overrides this)."""
-        return Inputs(obj, source, [target], anchor, anchor_path, tolerance, joints)
+        return Inputs(obj, settings)
 
     @property
     def total(self):
@@ -112,19 +111,11 @@ class BakeJob:
 
     def result(self, inp, frames, note):
         """The BakeResult of frames (keys and slider filled in by write())."""
-        folds = solve.input_folds(inp, self.job.solver) if self.job.solver is not None else ""
-        stats = self.job.solver.stats if self.job.solver is not None else None
-        folded = solve.folded_polygons(inp, frames)
-        return BakeResult(
-            keys=[], factors=self.factors, positions=self.positions, source=inp.source.name,
-            target=inp.others[0].name, slider=None,
-            max_distortion=max_distortion(inp.shapes[0], frames, inp.faces, inp.layers),
-            input_distortion=max_distortion(inp.shapes[0], [inp.shapes[1]], inp.faces, inp.layers),
-            folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
-            joints=stats.joints if stats else 0,
-            joint_source=inp.joint_source if stats and stats.joints else "",
-            note="; ".join(text for text in (folds, note) if text),
-            seconds=time.perf_counter() - self.started)
+        m = measures(inp, frames, self.job.solver)
+        m["note"] = "; ".join(text for text in (m["note"], note) if text)
+        return BakeResult(keys=[], factors=self.factors, positions=self.positions,
+                          source=inp.source.name, target=inp.others[0].name, slider=None,
+                          seconds=time.perf_counter() - self.started, **m)
 
     def write(self, plan):
         """Write a plan's keys (and drivers, from the slider on plan.owner): (keys, slider)."""
@@ -144,6 +135,20 @@ class Plan:
 
     def __init__(self, **kw):
         self.__dict__.update(kw)
+
+
+def measures(inp, shapes, solver=None):
+    """A bake's summary of `shapes` (the results, e.g. in-betweens or a blend) as BakeResult
+    fields: the largest distortion K of the results and of the inputs, folded polygons, the
+    joints the solver used and where they came from, and a note on the inputs' folds."""
+    folded = solve.folded_polygons(inp, shapes)
+    stats = solver.stats if solver is not None else None
+    return dict(max_distortion=max_distortion(inp.shapes[0], shapes, inp.faces, inp.layers),
+                input_distortion=max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers),
+                folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
+                joints=stats.joints if stats else 0,
+                joint_source=inp.joint_source if stats and stats.joints else "",
+                note=solve.input_folds(inp, solver) if solver is not None else "")
 
 
 def store_result(obj, summary):
@@ -220,9 +225,8 @@ def bake_live(obj, count=None, job_of=BakeJob):
         raise mesh_io.BakeError("%s is not in live mode" % getattr(obj, "name", "No object"))
     if props.live_mode == 'BLEND':
         return _bake_live_blend(obj, props)
-    job = job_of(obj, props.target, props.source or None, count or props.count, None, "LINEAR",
-                  solve.anchor_choice(props), props.anchor_path, props.method, props.tolerance, True,
-                  props.joints)
+    job = job_of(obj, from_props(props, count=count or props.count, factors=None,
+                                 easing="LINEAR", drivers=True))
     kind, curve = _factor_curve(obj)
     result = job.finish()
     path = '["%s"]' % result.slider
@@ -278,14 +282,12 @@ def _bake_live_blend(obj, props):
     frames = list(range(scene.frame_start, scene.frame_end + 1))
     per_frame = _weights_per_frame(obj, props, frames)
     distinct = sorted(set(per_frame), key=per_frame.index)
-    inp = Inputs(obj, props.source or None, [p.key for p in props.poses], solve.anchor_choice(props),
-                 None, props.tolerance, props.joints)
+    settings = from_props(props, anchor_path=None)
+    inp = Inputs(obj, settings, list(settings.poses))
     solver = inp.interpolator()
     shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
               for w in distinct]
-    k_out = max_distortion(inp.shapes[0], shapes, inp.faces, inp.layers)
-    k_in = max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers)
-    folded = solve.folded_polygons(inp, shapes)
+    m = measures(inp, shapes, solver)
     # --- everything computed; from here on the file is modified ---
     source, key = inp.source.name, obj.data.shape_keys
     for kb in [kb for kb in key.key_blocks if kb.name.startswith(LIVE_KEY + ".")]:
@@ -296,11 +298,10 @@ def _bake_live_blend(obj, props):
         _keyframe_steps(key.key_blocks[name], frames, [1.0 if pw == w else 0.0 for pw in per_frame])
         names.append(name)
     _live_off(obj)
+    m["note"] = "; ".join(text for text in (m["note"], "one key per distinct set of weights over "
+                          "frames %d-%d, keyframed" % (frames[0], frames[-1])) if text)
     result = BakeResult(keys=names, factors=[], positions=[], source=source, target="pose blend",
-                        slider=None, max_distortion=k_out, input_distortion=k_in, folded=folded,
-                        seconds=time.perf_counter() - started,
-                        note="one key per distinct set of weights over frames %d-%d, keyframed"
-                        % (frames[0], frames[-1]))
+                        slider=None, seconds=time.perf_counter() - started, **m)
     store_result(obj, result.summary())
     return result
 

@@ -8,7 +8,6 @@ are written back in its own local coordinates, driven by one slider on the activ
 from . import rig, solve
 from .baking import BakeJob, store_result
 from .mesh_io import BakeError
-from .names import DEFAULT_TOLERANCE
 
 
 def to_world(obj, co):
@@ -38,18 +37,18 @@ class CharacterInputs(solve.Inputs):
     the order of `parts` (each object's own validated Inputs), faces renumbered; obj is the first
     object (the active one, whose slider plays the bake)."""
 
-    def __init__(self, objs, source, target, anchor="AUTO", tolerance=DEFAULT_TOLERANCE,
-                 joints="auto", anchor_path=None):
+    def __init__(self, objs, settings):
         import numpy as np
-        self.parts = [solve.Inputs(obj, source, [target], "AUTO", None, tolerance, "off",
-                                   layered=False) for obj in objs]
+        parts = settings.but(anchor="AUTO", anchor_path=None, joints="off")
+        self.parts = [solve.Inputs(obj, parts, layered=False) for obj in objs]
         first = self.parts[0]
         self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
         self.obj_name = "character of %d objects" % len(objs)
-        self.names, self.joint_mode = first.names, rig.joint_mode(joints)
+        self.names, self.joint_mode = first.names, settings.joints
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
         # the shapes are in world space: so is the anchor path (no object's matrix)
-        self.anchor = solve.resolve_anchor(None, self.stacked_vertex(anchor), anchor_path, 1)
+        self.anchor = solve.resolve_anchor(None, self.stacked_vertex(settings.anchor),
+                                           settings.path_object(), 1)
         self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
         # polygons numbered across the objects, so that folds count each object's apart
         self.poly_offsets = np.cumsum([0] + [len(p.obj.data.polygons) for p in self.parts])
@@ -58,7 +57,7 @@ class CharacterInputs(solve.Inputs):
         self.raw = None
         world = [np.concatenate([to_world(p.obj, p.shapes[i]) for p in self.parts])
                  for i in range(len(self.names))]
-        self.shapes = self.layered(world, tolerance)
+        self.shapes = self.layered(world, settings.planarity)
         self.joints, self.joint_source = self.find_joints([rig.Member(
             p.obj, int(o), p.source_read, lambda x, obj=p.obj: to_world(obj, x),
             lambda p=p: p.reference_shape(p.obj)) for p, o in zip(self.parts, self.offsets)])
@@ -114,15 +113,12 @@ class CharacterBakeJob(BakeJob):
     """BakeJob of several objects: computed once for all, written into each (one slider, on the
     first object, drives every object's keys)."""
 
-    def __init__(self, objs, target, source=None, count=3, factors=None, easing="LINEAR",
-                 anchor="AUTO", method="bdi", tolerance=DEFAULT_TOLERANCE, drivers=True,
-                 joints="auto", anchor_path=None):
-        self._objs = members(objs, target)
-        super().__init__(self._objs[0], target, source, count, factors, easing, anchor, anchor_path,
-                         method, tolerance, drivers, joints)
+    def __init__(self, objs, settings):
+        self._objs = members(objs, settings.target)
+        super().__init__(self._objs[0], settings)
 
-    def inputs(self, obj, source, target, anchor, anchor_path, tolerance, joints):
-        return CharacterInputs(self._objs, source, target, anchor, tolerance, joints, anchor_path)
+    def inputs(self, obj, settings):
+        return CharacterInputs(self._objs, settings)
 
     def finish(self):
         """Compute what is left, plan every object, then write them all; a BakeResult."""

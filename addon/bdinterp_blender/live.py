@@ -20,8 +20,10 @@ from bpy.app.handlers import persistent
 from . import character, mesh_io, solve
 from .mesh_io import BakeError
 from .names import LIVE_KEY, LIVE_WARNING
+from .settings import from_props
 
-Settings = namedtuple("Settings", "mode source target poses anchor path tolerance method joints")
+# A live request: the mode ('INTERPOLATE' or 'BLEND') and its BakeSettings (compared to notice changes).
+Settings = namedtuple("Settings", "mode bake")
 
 
 class State:
@@ -39,18 +41,18 @@ _states = {}   # object name -> State
 _suspended = []  # non-empty while api.set_live writes several settings: no recompute per write
 
 
-def settings_of(props):
-    anchor = solve.anchor_choice(props)
-    poses = tuple(p.key for p in props.poses) if props.live_mode == 'BLEND' else ()
-    path = props.anchor_path.name if props.anchor_path is not None else None
-    return Settings(props.live_mode, props.source, props.target, poses, anchor, path,
-                    props.tolerance, props.method, props.joints)
+def settings_of(props, **changes):
+    """The live Settings of the panel settings `props` (Object.bdi), with `changes` of its
+    BakeSettings."""
+    blend = changes.pop("mode", props.live_mode) == 'BLEND'
+    bake = from_props(props, factors=None, easing="LINEAR", **changes)
+    return Settings('BLEND' if blend else 'INTERPOLATE', bake if blend else bake.but(poses=()))
 
 
 def prepare(obj, settings, objs=None):
     """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing.
     objs: the objects of obj's character (default: those it holds, see character_objects)."""
-    objs = character_objects(obj, settings.target) if objs is None else objs
+    objs = character_objects(obj, settings.bake.target) if objs is None else objs
     if len(objs) > 1 and settings.mode != 'BLEND':
         return prepare_character(objs, settings)
     owner = next((o for o in bpy.data.objects if o != obj and getattr(o, "bdi", None) is not None
@@ -58,16 +60,14 @@ def prepare(obj, settings, objs=None):
     if owner is not None:  # two live modes would write its live key in turn
         raise BakeError("%s is part of %s's live character: switch that off first"
                         % (obj.name, owner.name))
+    bake = settings.bake
     if settings.mode == 'BLEND':
-        if not settings.poses:
+        if not bake.poses:
             raise BakeError("%s: live pose blend has no poses; add some under Pose Blend" % obj.name)
-        inp = solve.Inputs(obj, settings.source, list(settings.poses), settings.anchor, None,
-                           settings.tolerance, settings.joints)
+        inp = solve.Inputs(obj, bake.but(anchor_path=None), list(bake.poses))
         return State(settings, inp, inp.interpolator())
-    path = bpy.data.objects.get(settings.path) if settings.path else None
-    inp = solve.Inputs(obj, settings.source, [settings.target], settings.anchor, path,
-                       settings.tolerance, settings.joints)
-    return State(settings, inp, inp.interpolator() if settings.method == 'bdi' else None)
+    inp = solve.Inputs(obj, bake)
+    return State(settings, inp, inp.interpolator() if bake.method == 'bdi' else None)
 
 
 def character_objects(obj, target, others=None):
@@ -89,10 +89,8 @@ def prepare_character(objs, settings):
         if other.bdi.live:
             raise BakeError("%s is in live mode of its own: switch that off to make it part of "
                             "%s's live character" % (other.name, objs[0].name))
-    path = bpy.data.objects.get(settings.path) if settings.path else None
-    inp = character.CharacterInputs(objs, settings.source, settings.target, settings.anchor,
-                                    settings.tolerance, settings.joints, path)
-    state = State(settings, inp, inp.interpolator() if settings.method == 'bdi' else None)
+    inp = character.CharacterInputs(objs, settings.bake)
+    state = State(settings, inp, inp.interpolator() if settings.bake.method == 'bdi' else None)
     for part in inp.parts:
         part.obj = part.key = part.source = part.others = None
     state.members = _signature(objs)
@@ -107,7 +105,7 @@ def set_members(obj, objs):
 
 
 def _members(obj, settings):
-    return _signature(character_objects(obj, settings.target)) if settings.mode != 'BLEND' else ()
+    return _signature(character_objects(obj, settings.bake.target)) if settings.mode != 'BLEND' else ()
 
 
 def remove_keys(objs):
@@ -166,7 +164,7 @@ def compute(state, values):
         names, weights = solve.pose_weights(list(zip(inp.names[1:], values)))
         return solve.blend_shape(inp, weights, state.solver)
     if state.solver is None:
-        return solve.FrameJob(inp, values, state.settings.method).frames()[0]
+        return solve.FrameJob(inp, values, state.settings.bake.method).frames()[0]
     try:
         return state.solver.at(values[0])
     except ValueError as exc:

@@ -7,7 +7,7 @@ Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this 
 
 from . import character, mesh_io, playback, solve
 from .mesh_io import BakeError
-from .names import DEFAULT_TOLERANCE
+from .settings import BakeSettings, from_props
 
 
 class Path:
@@ -23,20 +23,15 @@ class Path:
         target = target or (props.target if props is not None else "")
         if not target:
             raise BakeError("%s: no target shape key chosen" % objs[0].name)
-        if source is None:
-            source = props.source if props is not None else None
-        self.method = props.method if props is not None else "bdi"
-        tolerance = props.tolerance if props is not None else DEFAULT_TOLERANCE
-        joints = props.joints if props is not None else "auto"
+        settings = from_props(props, factors=None) if props is not None else BakeSettings()
+        settings = settings.but(target=target, source=settings.source if source is None else source)
+        self.method = settings.method
         members = character.members(objs, target) if len(objs) > 1 else objs
         if len(members) > 1:
-            self.inp = character.CharacterInputs(members, source, target, "AUTO", tolerance, joints)
+            self.inp = character.CharacterInputs(members, settings)
         else:
-            one = members[0] if members else objs[0]
-            anchor = solve.anchor_choice(props) if props is not None else "AUTO"
-            path = props.anchor_path if props is not None else None
-            self.inp = solve.Inputs(one, source, [target], anchor, path, tolerance, joints)
-            members = [one]
+            members = [members[0] if members else objs[0]]
+            self.inp = solve.Inputs(members[0], settings)
         self.objs, self.found = members, None
         self.solver = self.inp.interpolator() if self.method == "bdi" and with_solver else None
 

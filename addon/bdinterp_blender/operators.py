@@ -7,46 +7,20 @@ changes nothing; each is one undo step.
 import bpy
 from bpy.props import EnumProperty, IntProperty
 
-from . import api, timing
+from . import api
+from .settings import CURVE_NODE, from_props
 
-CURVE_NODE = "Easing"
-
-
-def easing_of(props):
-    """The easing argument for api.bake: a preset name, or a callable for the custom curve."""
-    if props.easing != 'CUSTOM':
-        return props.easing
-    tree = props.easing_curve
-    node = tree.nodes.get(CURVE_NODE) if tree else None
-    if node is None:
-        raise api.BakeError("custom easing needs a curve: press 'New Curve' first")
-    mapping = node.mapping
-    mapping.initialize()
-    return lambda u: mapping.evaluate(mapping.curves[0], u)
-
-
-def anchor_of(props):
-    from .solve import anchor_choice
-    return anchor_choice(props)
-
-
-def bake_settings(props, objs=None):
-    """Keyword arguments of api.bake() from the panel settings (of the bake of objs: the error
-    bound's factors are computed for them)."""
-    kw = dict(target=props.target, source=props.source or None, easing=easing_of(props),
-              anchor=anchor_of(props), anchor_path=props.anchor_path, method=props.method,
-              tolerance=props.tolerance, drivers=props.drivers, joints=props.joints)
-    if props.use_factors:
-        kw["factors"] = timing.parse_factors(props.factors)
-    elif props.use_error_bound:
-        if props.method != 'bdi':
+def settings_for(props, objs=None):
+    """The BakeSettings of a bake of objs from the panel settings props (Object.bdi): the error
+    bound's factors are computed for those objects."""
+    settings = from_props(props)
+    if props.use_error_bound and not props.use_factors:
+        if settings.method != 'bdi':
             raise api.BakeError("the error bound measures bdi in-betweens: choose Method bdi")
-        kw["factors"] = api.error_bound_factors(
-            objs, kw["target"], props.error_bound, kw["source"], kw["anchor"], kw["anchor_path"],
-            kw["tolerance"], kw["joints"])
-    else:
-        kw["count"] = props.count
-    return kw
+        settings = settings.but(factors=api.error_bound_factors(
+            objs, settings.target, props.error_bound, settings.source, settings.anchor,
+            settings.path_object(), settings.planarity, settings.joints))
+    return settings
 
 
 def selected_meshes(context):
@@ -87,7 +61,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
     def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
         objs = selected_meshes(context)
-        job = api.bake_job(objs, **bake_settings(obj.bdi, objs))
+        job = api.job_of(objs, settings_for(obj.bdi, objs))
         wm.progress_begin(0, job.total)
         try:
             while not job.finished:
@@ -100,7 +74,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         """From the UI: one chunk of frames per timer event, with progress, Esc cancels."""
         try:
             objs = selected_meshes(context)
-            self._job = api.bake_job(objs, **bake_settings(context.object.bdi, objs))
+            self._job = api.job_of(objs, settings_for(context.object.bdi, objs))
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
@@ -164,11 +138,10 @@ class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
     bl_label = "Bake Pose Blend"
 
     def run(self, context, obj):
-        props = obj.bdi
+        props, s = obj.bdi, from_props(obj.bdi, factors=None)
         name, k_out, k_in = api.blend(obj, [(p.key, p.weight) for p in props.poses],
-                                      source=props.source or None, name=props.blend_name,
-                                      anchor=anchor_of(props), tolerance=props.tolerance,
-                                      joints=props.joints)
+                                      source=s.source, name=props.blend_name, anchor=s.anchor,
+                                      planarity=s.planarity, joints=s.joints)
         return "Baked %s: max distortion %.4g (poses %.4g)" % (name, k_out, k_in)
 
 

@@ -8,7 +8,7 @@ polygon indices).
 
 from . import mesh_io, rig
 from .mesh_io import BakeError
-from .names import CHUNK, DEFAULT_TOLERANCE
+from .names import CHUNK
 
 
 def core():
@@ -23,8 +23,12 @@ class Inputs:
     triangles; poly: (m,) the polygon of each triangle; names: the keys' names, source first.
     """
 
-    def __init__(self, obj, source, others, anchor="AUTO", anchor_path=None,
-                 tolerance=DEFAULT_TOLERANCE, joints="auto", layered=True):
+    def __init__(self, obj, settings, others=None, layered=True):
+        """settings: a BakeSettings (source, anchor, anchor path, planarity, joints); others: the
+        keys after the source (default: [settings.target]); layered=False: the shapes as read,
+        for a caller that lays out several objects' shapes at once."""
+        source, anchor = settings.source, settings.anchor
+        others = [settings.target] if others is None else others
         self.obj, self.obj_name = obj, obj.name if obj is not None else "No object"
         self.key = mesh_io.key_of(obj)
         self.source = mesh_io.key_block(self.key, source)
@@ -37,16 +41,16 @@ class Inputs:
             if kb == self.source:
                 raise BakeError("target %r is the source key; pick another target" % kb.name)
         blocks = [self.source] + self.others
-        self.names, self.joint_mode = [kb.name for kb in blocks], rig.joint_mode(joints)
+        self.names, self.joint_mode = [kb.name for kb in blocks], settings.joints
         self.raw = [mesh_io.read_raw(kb) for kb in blocks]
         self.faces, self.poly = mesh_io.triangles(obj.data)
         read = [mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)]
         self.source_read = read[0]  # as read, before layering: the bones' pins are mapped onto it
-        # layered=False: shapes as read, for a caller that lays out several objects' at once
         self.layers, self.shapes = None, read
         if layered:
-            self.shapes = self.layered(read, tolerance)
-        self.anchor = resolve_anchor(obj, anchor, anchor_path, len(self.others))
+            self.shapes = self.layered(read, settings.planarity)
+        self.anchor = resolve_anchor(obj, anchor, settings.path_object() if layered else None,
+                                     len(self.others))
         self.joints, self.joint_source = self.find_joints([rig.Member(
             obj, 0, self.source_read, lambda p: p, lambda: self.reference_shape(obj))]) \
             if layered else (False, "")
@@ -101,19 +105,6 @@ class Inputs:
                                        joints=self.joints, layers=self.layers)
         except ValueError as exc:
             raise self.explain(exc) from exc
-
-
-def anchor_choice(props, kind=None):
-    """The anchor argument of the panel settings `props` (Object.bdi): 'AUTO', the vertex index
-    or the vertex group's name, for kind (default props.anchor) 'AUTO', 'VERTEX' or 'GROUP'; a
-    vertex of another object (props.anchor_object): (its name, the index)."""
-    kind = kind or props.anchor
-    if kind not in ('AUTO', 'VERTEX', 'GROUP'):
-        raise BakeError("anchor must be 'AUTO', 'VERTEX' or 'GROUP', got %r" % (kind,))
-    other = getattr(props, "anchor_object", None)
-    if kind == 'VERTEX' and other is not None and other != props.id_data:
-        return (other.name, props.anchor_vertex)
-    return {'AUTO': "AUTO", 'VERTEX': props.anchor_vertex, 'GROUP': props.anchor_group}[kind]
 
 
 def resolve_anchor(obj, anchor, anchor_path, n_targets):
