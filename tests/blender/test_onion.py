@@ -51,8 +51,10 @@ def test_ghosts_and_trails_draw_where_the_inbetweens_are(addon, tmp_path, args, 
     assert (change[:, 0] > change[:, 2]).mean() > 0.9  # towards the After colour (orange)
     first = np.array(out["first_change"])
     assert len(first) >= 10 and (np.abs(first).max(axis=1) > 0.01).mean() > 0.9
-    # frames: the first ghost is before the frame shown (the Before colour, blue), else after it
+    # the first ghost (0.25) before the shape shown (live and frames: 0.5) takes the Before colour
+    # (blue), after it (the slider at 0) the After colour
+    shown = 0.5 if "--live" in args or factors == FRAMES else 0.0
     before = (first[:, 2] > first[:, 0]).mean()
-    assert before > 0.9 if factors == FRAMES else before < 0.1
+    assert before > 0.9 if shown > factors[0] else before < 0.1
     assert out["corner_change"] < 1e-3
     assert out["draw_cached"] < 0.002  # a redraw with the overlay built: colours and batches only
