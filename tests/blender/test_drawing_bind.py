@@ -104,8 +104,8 @@ def test_strokes_on_the_head_and_arm_follow_the_mesh(addon, tmp_path, kind):
     assert addon.bind_drawing(gp_obj, objs if kind == "seven" else objs[0]) == len(pts)
     names, inside = pieces_bound(gp_obj, objs)
     assert inside.min() > -1e-9  # every point drawn on a piece: in the triangle that holds it
-    if kind == "seven":  # the head's points on the head's object, the arm's centre on the arm's
-        assert names[1:4] == ["Head"] * 3 and names[4] == "UpperArm", names
+    if kind == "seven":  # the centres on their own pieces (where pieces overlap, either holds it)
+        assert names[0] == "Head" and names[4] == "UpperArm", names
     slider_owner = objs[0]
     for s in (0.0, 0.25, 0.5, 1.0):
         slider_owner[cb.TARGET + ".bdi"] = s
