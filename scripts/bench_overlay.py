@@ -67,6 +67,7 @@ def main(argv):
         print("| %d | %.2f | %.3f | %.0f / %.0f |" % (
             full["vertices"], 1e3 * full["draw_cached"], 1e3 * python["draw_cached"],
             1e3 * full["redraw_off"], 1e3 * full["redraw_on"]), flush=True)
+    print("\nRenderer: %s" % full["renderer"])
 
 
 if __name__ == "__main__":

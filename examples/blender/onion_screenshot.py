@@ -161,6 +161,8 @@ def steps(addon, out):
     out["draw_first"], out["draw_cached"] = times[0], sorted(times[1:])[len(times) // 2 - 1]
     out["draw_cached_max"] = max(times[1:])
     out["vertices"] = sum(len(o.data.vertices) for o in objs)
+    import gpu
+    out["renderer"] = gpu.platform.renderer_get()
     img, _ = shot(os.path.abspath(arg("--out", "/tmp/onion.png")))
     out["ghost_change"] = changes(ghosts, 0.75, base, img, (ax, ay))
     out["ghost_points"] = len(out["ghost_change"])
