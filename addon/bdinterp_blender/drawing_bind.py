@@ -1,7 +1,8 @@
-"""Grease Pencil drawings that ride on a bdinterp mesh (Blender 4.3+, Grease Pencil v3).
+"""Grease Pencil drawings that ride on a bdinterp mesh or character (Blender 4.3+, Grease Pencil v3).
 
 bind_drawing stores, per stroke point, its rest position and radius and the triangle of the
-mesh's rest shape (reference key, world space) that holds it: barycentric coordinates in the
+mesh's rest shape (reference key, world space) that holds it (a character of several objects:
+their triangles one object after the other, so a point goes to whichever piece holds it): barycentric coordinates in the
 mesh's plane (a point outside the mesh: the triangle it is least outside of, by that triangle's
 affine map) and the height above the plane.  A handler of the add-on then writes every point from
 the evaluated mesh (slider, live mode, baked keys, render), the radius scaled with the triangle's
@@ -12,10 +13,10 @@ attributes of the drawings, so a saved file keeps working.
 import bpy
 from bpy.app.handlers import persistent
 
-from .character import to_local, to_world
+from .character import members, to_local, to_world
 from .mesh_io import BakeError, triangles
 
-BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh object's name
+BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh objects' names
 REST, RADIUS, TRI, BARY, HEIGHT = ("bdi_rest_position", "bdi_rest_radius", "bdi_tri", "bdi_bary",
                                    "bdi_height")
 ATTRS = ((REST, 'FLOAT_VECTOR'), (RADIUS, 'FLOAT'), (TRI, 'INT'), (BARY, 'FLOAT_VECTOR'),
@@ -52,20 +53,33 @@ def write(drawing, name, kind, values):
                           np.ascontiguousarray(values, dtype=dtype).ravel())
 
 
-def world_mesh(mesh_obj, depsgraph=None):
-    """(vertices (n, 3) world coordinates as shown, triangles (m, 3)); rest: the reference key."""
+def world_mesh(mesh_objs, depsgraph=None):
+    """(vertices (n, 3) world coordinates as shown, triangles (m, 3)) of the objects one after
+    the other; rest (no depsgraph): their reference keys."""
     import numpy as np
     from .mesh_io import read_co
-    faces, _ = triangles(mesh_obj.data)
-    if depsgraph is None:
-        co, m = read_co(mesh_obj.data.shape_keys.reference_key), mesh_obj.matrix_world
-    else:
-        ev = mesh_obj.evaluated_get(depsgraph)
-        co = np.empty(len(ev.data.vertices) * 3, dtype=np.float32)
-        ev.data.vertices.foreach_get("co", co)
-        co, m = co.reshape(-1, 3).astype(np.float64), ev.matrix_world
-    m = np.array(m, dtype=np.float64)
-    return co @ m[:3, :3].T + m[:3, 3], faces
+    points, tris, offset = [], [], 0
+    for obj in mesh_objs:
+        faces, _ = triangles(obj.data)
+        if depsgraph is None:
+            co = to_world(obj, read_co(obj.data.shape_keys.reference_key))
+        else:
+            ev = obj.evaluated_get(depsgraph)
+            co = np.empty(len(ev.data.vertices) * 3, dtype=np.float32)
+            ev.data.vertices.foreach_get("co", co)
+            co = to_world(ev, co.reshape(-1, 3).astype(np.float64))
+        points.append(co)
+        tris.append(faces + offset)
+        offset += len(co)
+    return np.concatenate(points), np.concatenate(tris)
+
+
+def bound_meshes(gp_obj):
+    """The mesh objects gp_obj is bound to (in order); None if one of them is gone."""
+    names = gp_obj.get(BOUND, [])
+    names = [names] if isinstance(names, str) else list(names)
+    objs = [bpy.data.objects.get(name) for name in names]
+    return objs if objs and all(o is not None and o.type == 'MESH' for o in objs) else None
 
 
 def _frames(X, faces):
@@ -109,16 +123,20 @@ def place(X, faces, tri, bary, height, rest_area):
 
 
 def bind_drawing(gp_obj, mesh_obj):
-    """Bind every stroke point of gp_obj (all layers and frames) to mesh_obj's rest shape; from
-    then on the strokes follow the mesh wherever it is shown.  Returns the number of points."""
+    """Bind every stroke point of gp_obj (all layers and frames) to the rest shape of mesh_obj,
+    a mesh object or a list of them (a character: each point to the nearest triangle of any of
+    them); from then on the strokes follow wherever the mesh is shown.  Returns the number of
+    points."""
     reason = why_not(gp_obj)
     if reason:
         raise BakeError(reason)
-    if mesh_obj is None or mesh_obj.type != 'MESH' or mesh_obj.data.shape_keys is None:
-        raise BakeError("%s is not a mesh with shape keys" % getattr(mesh_obj, "name", "No object"))
+    objs = list(mesh_obj) if isinstance(mesh_obj, (list, tuple)) else [mesh_obj]
+    for obj in objs or [None]:
+        if obj is None or obj.type != 'MESH' or obj.data.shape_keys is None:
+            raise BakeError("%s is not a mesh with shape keys" % getattr(obj, "name", "No object"))
     if BOUND in gp_obj:
         unbind_drawing(gp_obj)
-    X, faces = world_mesh(mesh_obj)
+    X, faces = world_mesh(objs)
     located = []
     for d in drawings(gp_obj):  # all computed before anything is written
         P = to_world(gp_obj, read(d, "position", 3).astype(float))
@@ -134,7 +152,7 @@ def bind_drawing(gp_obj, mesh_obj):
         write(d, BARY, 'FLOAT_VECTOR', bary)
         write(d, HEIGHT, 'FLOAT', height)
         count += len(P)
-    gp_obj[BOUND] = mesh_obj.name
+    gp_obj[BOUND] = [o.name for o in objs]
     return count
 
 
@@ -153,13 +171,13 @@ def unbind_drawing(gp_obj):
 
 
 def update(gp_obj, depsgraph):
-    """Write gp_obj's bound points from its mesh as evaluated; False if the mesh is gone."""
+    """Write gp_obj's bound points from its meshes as evaluated; False if one of them is gone."""
     import numpy as np
-    mesh_obj = bpy.data.objects.get(gp_obj.get(BOUND, ""))
-    if mesh_obj is None or mesh_obj.type != 'MESH':
+    objs = bound_meshes(gp_obj)
+    if objs is None:
         return False
-    X, faces = world_mesh(mesh_obj, depsgraph)
-    rest, _ = world_mesh(mesh_obj)
+    X, faces = world_mesh(objs, depsgraph)
+    rest, _ = world_mesh(objs)
     changed = False
     for d in drawings(gp_obj):
         if d.attributes.get(REST) is None:
@@ -185,9 +203,19 @@ def on_update(scene, depsgraph=None):
             update(obj, depsgraph)
 
 
+def chosen_meshes(context):
+    """The active mesh and, if it has a target, the other selected meshes with that key (its
+    character, as a bake solves it)."""
+    obj = context.object
+    target = getattr(getattr(obj, "bdi", None), "target", "")
+    others = [o for o in context.selected_objects if o.type == 'MESH' and o != obj]
+    return [obj] + (members(others, target) if target else [])
+
+
 class BDINTERP_OT_bind_drawing(bpy.types.Operator):
-    """Bind the selected Grease Pencil objects' strokes to the active mesh: they follow its
-    in-betweens wherever it is shown (Unbind puts every point back where it was drawn)"""
+    """Bind the selected Grease Pencil objects' strokes to the active mesh (with the selected
+    meshes of its character): they follow its in-betweens wherever it is shown (Unbind puts
+    every point back where it was drawn)"""
     bl_idname = "bdinterp.bind_drawing"
     bl_label = "Bind Drawings"
     bl_options = {'REGISTER', 'UNDO'}
@@ -211,7 +239,7 @@ class BDINTERP_OT_bind_drawing(bpy.types.Operator):
                 if self.unbind:
                     unbind_drawing(gp_obj)
                 else:
-                    bind_drawing(gp_obj, context.object)
+                    bind_drawing(gp_obj, chosen_meshes(context))
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}

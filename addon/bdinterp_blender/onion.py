@@ -20,6 +20,7 @@ from .names import LIVE_KEY, SEP
 
 
 def _redraw(self=None, context=None):
+    invalidate()
     for window in getattr(bpy.context.window_manager, "windows", ()):
         for area in window.screen.areas:
             if area.type == 'VIEW_3D':
@@ -36,9 +37,17 @@ class BDI_ViewProps(bpy.types.PropertyGroup):
                          description="Draw ghosts of the in-betweens of the active object or character")
     ghost_source: EnumProperty(name="Ghosts", update=_redraw, items=[
         ('FACTORS', "Factors", "The exact in-betweens at every Step (computed, also in live mode)"),
-        ('BAKED', "Baked Keys", "The baked in-between keys as stored")])
+        ('BAKED', "Baked Keys", "The baked in-between keys as stored"),
+        ('FRAMES', "Frames", "The in-betweens shown at the frames before and after the current "
+                             "one (the slider's or live factor's keyframes)")])
     step: FloatProperty(name="Step", default=0.25, min=0.02, max=0.5, update=_redraw,
                         description="Factor between two ghosts")
+    frames_before: IntProperty(name="Before", default=2, min=0, max=20, update=_redraw,
+                               description="Ghosts of the frames before the current one")
+    frames_after: IntProperty(name="After", default=2, min=0, max=20, update=_redraw,
+                              description="Ghosts of the frames after the current one")
+    frame_step: IntProperty(name="Frame Step", default=1, min=1, max=100, update=_redraw,
+                            description="Frames between two ghosts")
     opacity: FloatProperty(name="Opacity", default=0.8, min=0.0, max=1.0, update=_redraw,
                            subtype='FACTOR')
     before_color: _color("Before", (0.25, 0.55, 1.0))
@@ -57,14 +66,16 @@ class BDI_ViewProps(bpy.types.PropertyGroup):
 class Ghosts:
     """Everything the overlay draws, world coordinates: shapes (j, n, 3) at factors (j,), faces
     (m, 3), outline edges (e, 2), trails (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider
-    (owner object name, property) whose value is the current factor; an error message."""
+    (owner object name, property) whose value is the current factor; an error message; the
+    motion_trails.Path solved (kept while only the frame changes).  Ghosts of frames have
+    `offsets` (j,) in frames from the current one and `span` (their tint fades over it)."""
 
     def __init__(self, **kw):
         import numpy as np
         empty = np.empty((0, 0, 3))
         self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
         self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
-        self.slider, self.error = None, ""
+        self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
         self.__dict__.update(kw)
 
 
@@ -110,12 +121,13 @@ def selected_vertices(objs):
     return np.concatenate(out)
 
 
-def build(objs, view):
-    """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view)."""
+def build(objs, view, frame=None, path=None):
+    """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
+    scene's `frame`; `path`: a motion_trails.Path of the same request to reuse."""
     import numpy as np
-    solve_needed = view.trails or view.ghost_source == 'FACTORS'
-    path = motion_trails.Path(objs, with_solver=solve_needed)
-    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces))
+    solve_needed = view.trails or view.ghost_source != 'BAKED'
+    path = path or motion_trails.Path(objs, with_solver=solve_needed)
+    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
     baked, names = path.baked()
     if path.found is not None:
         out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
@@ -124,36 +136,68 @@ def build(objs, view):
         if None in factors:  # names not made by a bake: evenly spaced
             factors = list(np.arange(1, len(names) + 1) / (len(names) + 1.0))
         out.shapes, out.factors = baked, factors
+    elif view.ghosts and view.ghost_source == 'FRAMES':
+        step = view.frame_step
+        out.offsets = [-k * step for k in range(view.frames_before, 0, -1)] + \
+            [k * step for k in range(1, view.frames_after + 1)]
+        out.span = (max(view.frames_before, view.frames_after) + 1) * step
+        out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
+        out.shapes = path.frames(out.factors) if out.offsets else np.empty((0, path.size, 3))
     elif view.ghosts:
         ts = np.arange(view.step, 1.0 - 1e-9, view.step)
         out.shapes, out.factors = path.frames(ts), list(ts)
     if view.trails:
-        v = None
-        if view.trail_vertices == 'SELECTED':
-            v = selected_vertices(path.objs)
-            if not len(v):
-                raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
-        v = path.vertices(v)
-        out.trails = path.frames(np.linspace(0.0, 1.0, view.samples))[:, v]
-        out.ticks = baked[:, v]
-        out.chords = out.trails[[0, -1]]
+        trail_points(out, path, view, baked)
     return out
 
 
+def trail_points(out, path, view, baked):
+    """Set out.trails, ticks and chords: the paths of the trail vertices of `view`."""
+    import numpy as np
+    v = None
+    if view.trail_vertices == 'SELECTED':
+        v = selected_vertices(path.objs)
+        if not len(v):
+            raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
+    v = path.vertices(v)
+    out.trails = path.frames(np.linspace(0.0, 1.0, view.samples))[:, v]
+    out.ticks = baked[:, v]
+    out.chords = out.trails[[0, -1]]
+
+
+def factor_at(objs, slider, frame=None):
+    """The factor shown at `frame` (None: now): live mode's factor, else the slider's (owner
+    object name, property) or 0; at another frame as its F-curve has it (a constant without)."""
+    from .actions import find_fcurve
+    props = objs[0].bdi
+    if props.live and props.live_mode == 'INTERPOLATE':
+        owner, data_path, value = objs[0], "bdi.live_factor", props.live_factor
+    else:
+        owner = bpy.data.objects.get(slider[0]) if slider is not None else None
+        if owner is None:
+            return 0.0
+        data_path = '["%s"]' % bpy.utils.escape_identifier(slider[1])
+        value = float(owner.get(slider[1], 0.0))
+    curve = find_fcurve(owner.animation_data, data_path) if frame is not None else None
+    return min(1.0, max(0.0, curve.evaluate(frame) if curve is not None else value))
+
+
 def request_key(objs, view):
-    """What the Ghosts depend on, cheap enough to compare on every redraw."""
+    """What the Ghosts depend on, cheap enough to compare on every redraw; last: the frame (for
+    ghosts of frames; else None)."""
     props = objs[0].bdi
     settings = (props.source, props.target, props.method, props.anchor, props.anchor_vertex,
                 props.anchor_group, props.tolerance, props.joints, props.live_mode,
                 view.ghosts, view.ghost_source, view.step, view.trails, view.trail_vertices,
-                view.samples)
+                view.samples, view.frames_before, view.frames_after, view.frame_step)
+    frame = bpy.context.scene.frame_current if view.ghosts and view.ghost_source == 'FRAMES' else None
     return (tuple(o.name for o in objs), settings, _epoch[0],
-            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs))
+            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs), frame)
 
 
 _epoch = [0]        # bumped when the data of a drawn object's keys change
 _signatures = {}    # object name -> hash of its keys' data (but the live key)
-_cache = {"key": None, "ghosts": None, "batches": None}
+_cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
 
 
 def key_signature(obj):
@@ -175,11 +219,13 @@ def current(context):
         return objs, None, None
     key = request_key(objs, view)
     if _cache["key"] != key:
+        same = _cache["key"] is not None and _cache["key"][:-1] == key[:-1] and _cache["ghosts"]
+        path = _cache["ghosts"].path if same else None  # only the frame changed: same solver
         _cache["key"], _cache["batches"] = key, None
         for o in objs:
             _signatures[o.name] = key_signature(o)
         try:
-            _cache["ghosts"] = build(objs, view)
+            _cache["ghosts"] = build(objs, view, key[-1], path)
             _cache["batches"] = overlay.batches(_cache["ghosts"])
         except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
             _cache["ghosts"] = Ghosts(error=str(exc))
@@ -187,14 +233,24 @@ def current(context):
 
 
 def now_factor(objs, ghosts):
-    """The factor shown now: the live factor in live mode, else the bake's slider (0 without)."""
-    props = objs[0].bdi
-    if props.live and props.live_mode == 'INTERPOLATE':
-        return props.live_factor
-    if ghosts.slider is not None:
-        owner = bpy.data.objects.get(ghosts.slider[0])
-        return float(owner.get(ghosts.slider[1], 0.0)) if owner is not None else 0.0
-    return 0.0
+    """Where the ghosts' tints are measured from: 0 for ghosts of frames (their offsets), else
+    the factor shown now."""
+    return 0.0 if ghosts.offsets is not None else factor_at(objs, ghosts.slider)
+
+
+@persistent
+def invalidate(*_args):
+    """Something drawn may have changed: the next redraw checks the request (and rebuilds)."""
+    _cache["plan"] = None
+
+
+def plan(context):
+    """The overlay.Plan of the context (False when there is nothing to draw), rebuilt if need be."""
+    from . import overlay
+    objs, ghosts, batches = current(context)
+    if batches is None:
+        return False
+    return overlay.Plan(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts))
 
 
 # Seconds of the last redraws that drew something (rebuilds included), for the benchmark.
@@ -202,21 +258,24 @@ timings = deque(maxlen=512)
 
 
 def draw_callback():
-    from . import overlay
+    """A redraw: the Plan as it is, unless a handler said something changed since (or another
+    object became active)."""
     started = time.perf_counter()
     context = bpy.context
-    if getattr(context.scene, "bdi_view", None) is None:
-        return
-    objs, ghosts, batches = current(context)
-    if batches is not None:
-        overlay.draw(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts))
+    if _cache["plan"] is None or context.object != _cache["active"]:
+        if getattr(context.scene, "bdi_view", None) is None:
+            return
+        _cache["plan"], _cache["active"] = plan(context), context.object
+    if _cache["plan"]:
+        _cache["plan"].draw()
         timings.append(time.perf_counter() - started)
 
 
 @persistent
 def on_depsgraph_update(scene, depsgraph):
-    """A drawn object's keys edited (not the live key alone): bump the epoch, so the next redraw
-    rebuilds."""
+    """Anything updated: the next redraw checks the request; a drawn object's keys edited (not the
+    live key alone): bump the epoch, so that it rebuilds."""
+    invalidate()
     names = _cache["key"][0] if _cache["key"] else ()
     for update in depsgraph.updates:
         obj_id = update.id.original
@@ -231,27 +290,30 @@ def on_depsgraph_update(scene, depsgraph):
 
 @persistent
 def on_load(*_args):
-    _cache.update(key=None, ghosts=None, batches=None)
+    _cache.update(key=None, ghosts=None, batches=None, plan=None, active=None)
     _signatures.clear()
 
 
 _handle = []
+HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
+            (bpy.app.handlers.frame_change_post, invalidate),
+            (bpy.app.handlers.undo_post, invalidate), (bpy.app.handlers.redo_post, invalidate),
+            (bpy.app.handlers.load_post, on_load))
 
 
 def register():
     bpy.utils.register_class(BDI_ViewProps)
     bpy.types.Scene.bdi_view = bpy.props.PointerProperty(type=BDI_ViewProps)
     _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
-    bpy.app.handlers.depsgraph_update_post.append(on_depsgraph_update)
-    bpy.app.handlers.load_post.append(on_load)
+    for handlers, fn in HANDLERS:
+        handlers.append(fn)
 
 
 def unregister():
     for handle in _handle:
         bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
     _handle.clear()
-    for handlers, fn in ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-                         (bpy.app.handlers.load_post, on_load)):
+    for handlers, fn in HANDLERS:
         if fn in handlers:
             handlers.remove(fn)
     on_load()
@@ -270,6 +332,11 @@ def draw_settings(layout, context):
         col.prop(view, "ghost_source", expand=True)
         if view.ghost_source == 'FACTORS':
             col.prop(view, "step")
+        elif view.ghost_source == 'FRAMES':
+            row = col.row(align=True)
+            row.prop(view, "frames_before")
+            row.prop(view, "frames_after")
+            col.prop(view, "frame_step")
         col.prop(view, "opacity", slider=True)
         row = col.row(align=True)
         row.prop(view, "before_color", text="")

@@ -1,5 +1,6 @@
-"""GPU drawing of onion.Ghosts with Blender's gpu module: the batches are made once per Ghosts and
-only coloured per redraw (a ghost's tint follows its distance in factor from the shown shape)."""
+"""GPU drawing of onion.Ghosts with Blender's gpu module: the batches are made once per Ghosts, a
+Plan colours them when something changed (a ghost's tint follows its distance in factor, or in
+frames, from the shown shape), and a redraw only draws the Plan."""
 
 import gpu
 from gpu_extras.batch import batch_for_shader
@@ -43,37 +44,52 @@ def batches(ghosts):
     return out
 
 
-def tint(view, factor, now):
-    """(r, g, b, strength) of a ghost at `factor` when the shape shown is at `now`: the Before or
-    After colour, stronger the nearer it is."""
-    colour = view.before_color if factor < now else view.after_color
-    strength = view.opacity * max(0.15, 1.0 - abs(factor - now))
+def tint(view, at, now, span=1.0):
+    """(r, g, b, strength) of a ghost at `at` (factor, or frame offset) when the shape shown is at
+    `now`: the Before or After colour, stronger the nearer it is (fading over `span`)."""
+    colour = view.before_color if at < now else view.after_color
+    strength = view.opacity * max(0.15, 1.0 - abs(at - now) / span)
     return (colour[0], colour[1], colour[2], strength)
 
 
-def draw(batch_set, ghosts, view, now):
-    """Draw the batches (POST_VIEW: world coordinates) over the scene, blended."""
-    sh = shader()
-    gpu.state.blend_set('ALPHA')
-    gpu.state.depth_test_set('NONE')
-    sh.bind()
-    for fill, edges, factor in zip(batch_set["fills"], batch_set["outlines"], ghosts.factors):
-        r, g, b, a = tint(view, factor, now)
-        sh.uniform_float("color", (r, g, b, 0.18 * a))
-        fill.draw(sh)
-        sh.uniform_float("color", (r, g, b, a))
-        edges.draw(sh)
-    if batch_set["trails"] is not None:
-        gpu.state.line_width_set(2.0)
-        trail = tuple(view.trail_color)
-        if view.chords:
-            sh.uniform_float("color", (0.75, 0.75, 0.75, 0.6))
-            batch_set["chords"].draw(sh)
-        sh.uniform_float("color", trail + (1.0,))
-        batch_set["trails"].draw(sh)
+class Plan:
+    """One redraw's work, decided when something changed: the ghosts' batches with their colours,
+    then the trails' (chords, paths, ticks); draw() only binds, sets colours and draws."""
+
+    def __init__(self, batch_set, ghosts, view, now):
+        self.ghosts, self.lines, self.points = [], [], []
+        times = ghosts.factors if ghosts.offsets is None else ghosts.offsets
+        for fill, edges, at in zip(batch_set["fills"], batch_set["outlines"], times):
+            r, g, b, a = tint(view, at, now, ghosts.span)
+            self.ghosts += [(fill, (r, g, b, 0.18 * a)), (edges, (r, g, b, a))]
+        trail = tuple(view.trail_color) + (1.0,)
+        if batch_set["trails"] is not None:
+            if view.chords:
+                self.lines.append((batch_set["chords"], (0.75, 0.75, 0.75, 0.6)))
+            self.lines.append((batch_set["trails"], trail))
         if batch_set["ticks"] is not None:
-            gpu.state.point_size_set(7.0)
-            batch_set["ticks"].draw(sh)
-            gpu.state.point_size_set(1.0)
+            self.points.append((batch_set["ticks"], trail))
+
+    def __bool__(self):
+        return bool(self.ghosts or self.lines)
+
+    def draw(self):
+        """Draw (POST_VIEW: world coordinates) over the scene, blended."""
+        sh = shader()
+        gpu.state.blend_set('ALPHA')
+        gpu.state.depth_test_set('NONE')
+        sh.bind()
+        for batch, colour in self.ghosts:
+            sh.uniform_float("color", colour)
+            batch.draw(sh)
+        gpu.state.line_width_set(2.0)
+        for batch, colour in self.lines:
+            sh.uniform_float("color", colour)
+            batch.draw(sh)
+        gpu.state.point_size_set(7.0)
+        for batch, colour in self.points:
+            sh.uniform_float("color", colour)
+            batch.draw(sh)
+        gpu.state.point_size_set(1.0)
         gpu.state.line_width_set(1.0)
-    gpu.state.blend_set('NONE')
+        gpu.state.blend_set('NONE')

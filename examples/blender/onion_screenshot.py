@@ -2,15 +2,17 @@
 
     xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --python \\
         examples/blender/onion_screenshot.py -- [--scene one|seven|grid:VERTICES] [--live] \\
-        [--ghosts FACTORS|BAKED] [--chords] [--out shot.png] [--redraws 50]
+        [--ghosts FACTORS|BAKED|FRAMES] [--chords] [--out shot.png] [--redraws 50]
 
 Scenes: examples/cutout's character as one object or as seven objects (its slider at 0, so every
 ghost lies after the shown shape), or a bent grid of about VERTICES vertices (the benchmark).
---live: live mode at factor 0.5 instead of a bake.  Draws the viewport (top view) without and
-with the overlay, and prints 'JSON:{...}': where the 0.75 ghost's triangles project (region
-pixels, only those on empty background without the overlay) and the colour change there, the
-same at empty corners, the overlay's draw times (first: the rebuild; then cached redraws) and
-the region's redraw time without and with the overlay.
+--live: live mode at factor 0.5 instead of a bake.  --ghosts FRAMES: the slider (or live factor)
+keyframed 0 at frame 1 and 1 at frame 9, shown at frame 5, two ghosts of frames either side.
+Draws the viewport (top view) without and with the overlay, and prints 'JSON:{...}': where the
+0.75 ghost's triangles project (region pixels, only those on empty background without the
+overlay) and the colour change there (and at the first ghost's), the same at empty corners, the
+overlay's draw times (first: the rebuild; then cached redraws) and the region's redraw time
+without and with the overlay.  scripts/bench_overlay.py runs it for docs/BENCHMARKS.md.
 """
 
 import json
@@ -34,17 +36,25 @@ def arg(name, default=None):
 
 def grid(vertices):
     """A strip of about `vertices` vertices (2:1) with the key 'Pose': bent by 120 degrees."""
+    from window_steps import bent_strip
     ny = max(2, int(math.sqrt(vertices / 2.0)))
-    bpy.ops.mesh.primitive_grid_add(x_subdivisions=2 * ny, y_subdivisions=ny, size=2.0)
-    obj = bpy.context.object
-    obj.scale = (1.0, 0.5, 1.0)
-    bpy.ops.object.transform_apply(scale=True)
-    obj.shape_key_add(name="Basis", from_mix=False)
-    mod = obj.modifiers.new("Bend", 'SIMPLE_DEFORM')
-    mod.deform_method, mod.deform_axis, mod.angle = 'BEND', 'Z', math.radians(120)
-    bpy.ops.object.modifier_apply_as_shapekey(modifier="Bend")
-    obj.data.shape_keys.key_blocks["Bend"].name = "Pose"
-    return [obj]
+    return [bent_strip(2 * ny, ny, 0.5, 120, "Pose")]
+
+
+def animate(owner, live):
+    """Keyframe the slider (or in live mode the live factor) of `owner` 0 at frame 1 and 1 at
+    frame 9, linear, and go to frame 5: the factor is 0.5 there and moves by 0.125 a frame."""
+    from bdinterp_blender.actions import find_fcurve
+    data_path = "bdi.live_factor" if live else '["Pose.bdi"]'
+    for frame, value in ((1, 0.0), (9, 1.0)):
+        if live:
+            owner.bdi.live_factor = value
+        else:
+            owner["Pose.bdi"] = value
+        owner.keyframe_insert(data_path, frame=frame)
+    for point in find_fcurve(owner.animation_data, data_path).keyframe_points:
+        point.interpolation = 'LINEAR'
+    bpy.context.scene.frame_set(5)
 
 
 def scene(addon):
@@ -68,6 +78,8 @@ def scene(addon):
     else:
         addon.bake(objs, target="Pose", count=3)
     view = bpy.context.scene.bdi_view
+    if arg("--ghosts") == 'FRAMES':
+        animate(obj, "--live" in ARGS)
     view.ghost_source = arg("--ghosts", "FACTORS")
     view.chords = "--chords" in ARGS
     return objs
@@ -106,6 +118,16 @@ def ghost_pixels(ghosts, factor=0.75):
             and 2 <= p.x < region.width - 2 and 2 <= p.y < region.height - 2]
 
 
+def changes(ghosts, factor, base, img, origin):
+    """The colour changes (without -> with the overlay) where the triangles of the ghost at
+    `factor` project onto empty background."""
+    import numpy as np
+    pts = [(x - origin[0], y - origin[1]) for x, y in ghost_pixels(ghosts, factor)]
+    background = np.median(base[:, :, :3].reshape(-1, 3), axis=0)
+    empty = [(x, y) for x, y in pts if abs(base[y, x, :3] - background).max() < 0.01]
+    return [[float(c) for c in img[y, x, :3] - base[y, x, :3]] for x, y in empty]
+
+
 def redraw_seconds(iterations):
     window, area, region = view3d()
     started = time.perf_counter()
@@ -116,7 +138,6 @@ def redraw_seconds(iterations):
 
 def steps(addon, out):
     """Generator driven by a timer: each yield lets Blender draw once."""
-    import numpy as np
     from bdinterp_blender import onion
     objs = scene(addon)
     window, area, region = view3d()
@@ -140,12 +161,12 @@ def steps(addon, out):
     out["draw_first"], out["draw_cached"] = times[0], sorted(times[1:])[len(times) // 2 - 1]
     out["draw_cached_max"] = max(times[1:])
     out["vertices"] = sum(len(o.data.vertices) for o in objs)
+    import gpu
+    out["renderer"] = gpu.platform.renderer_get()
     img, _ = shot(os.path.abspath(arg("--out", "/tmp/onion.png")))
-    pts = [(x - ax, y - ay) for x, y in ghost_pixels(ghosts)]
-    background = np.median(base[:, :, :3].reshape(-1, 3), axis=0)
-    empty = [(x, y) for x, y in pts if abs(base[y, x, :3] - background).max() < 0.01]
-    out["ghost_points"] = len(empty)
-    out["ghost_change"] = [[float(c) for c in img[y, x, :3] - base[y, x, :3]] for x, y in empty]
+    out["ghost_change"] = changes(ghosts, 0.75, base, img, (ax, ay))
+    out["ghost_points"] = len(out["ghost_change"])
+    out["first_change"] = changes(ghosts, min(ghosts.factors), base, img, (ax, ay))
     h, w = img.shape[:2]
     corners = [(8, h // 2), (w - 8, h // 2)]
     out["corner_change"] = max(float(abs(img[y, x, :3] - base[y, x, :3]).max()) for x, y in corners)
@@ -154,30 +175,17 @@ def steps(addon, out):
 
 
 def main():
+    from window_steps import run_steps
     out = {}
     try:
         import addon_loader
         addon = addon_loader.enable()
         bpy.context.preferences.view.show_splash = False
-        gen = steps(addon, out)
     except Exception:  # noqa: BLE001 -- report and quit instead of leaving a window open
         print("JSON:" + json.dumps({"error": traceback.format_exc()}), flush=True)
         bpy.ops.wm.quit_blender()
         return
-
-    def tick():
-        try:
-            next(gen)
-            return 0.3
-        except StopIteration:
-            pass
-        except Exception:  # noqa: BLE001 -- report and quit instead of hanging the window
-            out["error"] = traceback.format_exc()
-        print("JSON:" + json.dumps(out), flush=True)
-        bpy.ops.wm.quit_blender()
-        return None
-
-    bpy.app.timers.register(tick, first_interval=1.0)
+    run_steps(steps(addon, out), out, 0.3)
 
 
 main()

@@ -12,7 +12,6 @@ addon/ of this checkout.  CI runs it (tests/blender/test_window.py); its image i
 """
 
 import json
-import math
 import os
 import sys
 import traceback
@@ -56,16 +55,9 @@ def _wrapped(panel, name, fn):
 
 
 def scene(addon):
-    bpy.ops.mesh.primitive_grid_add(x_subdivisions=24, y_subdivisions=4, size=2.0)
-    obj = bpy.context.object
+    from window_steps import bent_strip
+    obj = bent_strip(24, 4, 0.2, 90, "Arm_up")
     obj.name = "Arm"
-    obj.scale = (1.0, 0.2, 1.0)
-    bpy.ops.object.transform_apply(scale=True)
-    obj.shape_key_add(name="Basis", from_mix=False)
-    mod = obj.modifiers.new("Bend", 'SIMPLE_DEFORM')
-    mod.deform_method, mod.deform_axis, mod.angle = 'BEND', 'Z', math.radians(90)
-    bpy.ops.object.modifier_apply_as_shapekey(modifier="Bend")
-    obj.data.shape_keys.key_blocks["Bend"].name = "Arm_up"
     obj.bdi.target, obj.bdi.count, obj.bdi.easing = "Arm_up", 4, 'EASE_IN_OUT'
     addon.bake(obj, target="Arm_up", count=4, easing="EASE_IN_OUT")
     obj["Arm_up.bdi"] = 0.5

@@ -1,6 +1,7 @@
 """Motion trails (bdinterp_blender.trails): the points are the solver's frames in world space, for
 one transformed object and for examples/cutout's seven-object character; computed here from the
-keys with the core directly (its own triangulation, layers and world transforms)."""
+keys with the core directly (its own triangulation, layers and world transforms); the overlay's
+ghosts (baked keys, factors, and the frames either side of the current one) likewise."""
 
 import math
 import os
@@ -134,3 +135,28 @@ def test_the_overlay_is_off_by_default_and_draws_the_frames_and_keys(addon, bd):
         onion.build([obj], view)
     obj.data.vertices[3].select = True
     assert np.abs(onion.build([obj], view).trails - addon.trails(obj, vertices=[3], samples=5)).max() < 1e-12
+
+
+def test_ghosts_of_frames_are_the_inbetweens_the_slider_keyframes_show_there(addon, bd):
+    from bdinterp_blender import onion
+    from bdinterp_blender.actions import find_fcurve
+    obj = bent_strip()
+    addon.bake(obj, target="Bend", count=3)
+    obj.bdi.target = "Bend"
+    for frame, value in ((1, 0.0), (11, 1.0)):  # linear: 0.1 a frame
+        obj["Bend.bdi"] = value
+        obj.keyframe_insert('["Bend.bdi"]', frame=frame)
+    for point in find_fcurve(obj.animation_data, '["Bend.bdi"]').keyframe_points:
+        point.interpolation = 'LINEAR'
+    view = bpy.context.scene.bdi_view
+    view.ghosts, view.trails, view.ghost_source = True, False, 'FRAMES'
+    view.frames_before, view.frames_after, view.frame_step = 2, 1, 2
+    ghosts = onion.build([obj], view, frame=6)  # frames 2, 4 and 8
+    assert ghosts.offsets == [-4, -2, 2] and ghosts.span == 6
+    assert np.allclose(ghosts.factors, [0.1, 0.3, 0.7], atol=1e-6)
+    expected = world(obj.matrix_world, core_frames(bd, [read_key(obj, "Basis"), read_key(obj, "Bend")],
+                                                   triangles(obj), ghosts.factors))
+    assert np.abs(ghosts.shapes - expected).max() < EXACT * 4
+    # the same request at another frame reuses the solver; past the last key the factor stays 1
+    again = onion.build([obj], view, frame=12, path=ghosts.path)
+    assert again.path is ghosts.path and np.allclose(again.factors, [0.7, 0.9, 1.0], atol=1e-6)  # 8, 10, 14

@@ -4,10 +4,8 @@ per timer event), once cancelled with Esc and once to the end, in a real window.
     xvfb-run ... blender --factory-startup --enable-event-simulate --python window_bake.py
 Prints 'JSON:{...}' and quits."""
 
-import json
 import os
 import sys
-import traceback
 
 import bpy
 
@@ -38,7 +36,6 @@ def view3d(window):
 
 
 def steps():
-    sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
     import addon_loader
     addon_loader.enable()
     window = bpy.context.window_manager.windows[0]
@@ -72,21 +69,9 @@ def steps():
 
 
 def main():
-    gen = steps()
-
-    def tick():
-        try:
-            next(gen)
-            return 0.05
-        except StopIteration:
-            pass
-        except Exception:  # noqa: BLE001 -- report and quit instead of hanging the window
-            result["error"] = traceback.format_exc()
-        print("JSON:" + json.dumps(result), flush=True)
-        bpy.ops.wm.quit_blender()
-        return None
-
-    bpy.app.timers.register(tick, first_interval=1.0)
+    sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
+    from window_steps import run_steps
+    run_steps(steps(), result, 0.05)
 
 
 main()
