@@ -6,7 +6,7 @@ import os
 
 from conftest import ROOT
 
-LAYERS = [["core", "names", "actions", "overlay"], ["timing", "mesh_io"], ["solve"],
+LAYERS = [["core", "names", "actions", "overlay", "painting_files"], ["timing", "mesh_io"], ["solve"],
           ["playback", "live", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
           ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
           ["ui"], ["__init__"]]
