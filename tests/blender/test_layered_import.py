@@ -2,12 +2,15 @@
 depth, hidden layers and groups, sprite sheets, opacity, one object per layer or one object, a
 broken file importing nothing."""
 import json
+import math
 import os
 import zipfile
 
 import bpy
 import numpy as np
 import pytest
+
+from conftest import read_key
 
 SCALE = 0.01
 
@@ -210,3 +213,44 @@ def test_operator_imports_json_and_refuses_a_broken_file(addon, coa):
     with pytest.raises(RuntimeError, match="node 2 'body': 'z' must be a number"):
         bpy.ops.bdinterp.import_layered(filepath=path)
     assert (len(bpy.data.objects), len(bpy.data.images), len(bpy.data.materials)) == before
+
+
+# A character of three overlapping layers (canvas pixels): the arm overlaps the torso at the
+# shoulder, the head overlaps its top; the arm is raised by 60 degrees about the shoulder.
+CHARACTER = {"torso": (60, 60, 60, 100), "arm": (110, 70, 70, 20), "head": (65, 10, 50, 55)}
+SHOULDER, RAISE = (115.0, 80.0), math.radians(60)
+
+
+def turned(co, centre, angle):
+    """co (n, 3) turned by angle about the front-view axis (y) through centre (x, z)."""
+    c, s = math.cos(angle), math.sin(angle)
+    d = co[:, [0, 2]] - centre
+    out = co.copy()
+    out[:, 0], out[:, 2] = centre[0] + c * d[:, 0] - s * d[:, 1], centre[1] + s * d[:, 0] + c * d[:, 1]
+    return out
+
+
+def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
+    import bdinterp_blender
+    nodes = []
+    for z, (name, (x, y, w, h)) in enumerate(CHARACTER.items()):
+        png(str(tmp_path / (name + ".png")), w, h, (0, 0, w, h))
+        nodes.append({"name": name, "resource_path": name + ".png", "position": [x, y], "z": z})
+    (tmp_path / "character.json").write_text(json.dumps({"nodes": nodes}))
+    objs = bdinterp_blender.import_layered(str(tmp_path / "character.json"), scale=SCALE)
+    centre = np.multiply([SHOULDER[0], -SHOULDER[1]], SCALE)
+    for obj in objs:
+        obj.shape_key_add(name="Basis")
+        co = world_co(obj)
+        target = turned(co, centre, RAISE) if obj.name == "arm" else co
+        obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set("co", target.ravel())
+    result = bdinterp_blender.bake(objs, target="Raise", count=1)
+    assert (result.objects, result.keys) == (3, ["Raise.bdi.050"])
+    assert result.joints == 1  # the shoulder's pin (the head and the torso are both still)
+    everything = np.concatenate([world_co(o) for o in objs])
+    size = np.ptp(everything[:, [0, 2]], axis=0).max()
+    for obj in objs:
+        half = read_key(obj, "Raise.bdi.050")
+        expected = turned(world_co(obj), centre, RAISE / 2) if obj.name == "arm" else world_co(obj)
+        tolerance = 0.005 if obj.name == "arm" else 1e-6
+        assert np.abs(half - expected).max() <= tolerance * size, obj.name
