@@ -4,13 +4,14 @@ broken file importing nothing."""
 import json
 import math
 import os
+import xml.etree.ElementTree as ET
 import zipfile
 
 import bpy
 import numpy as np
 import pytest
 
-from conftest import read_key
+from conftest import ROOT, read_key
 
 SCALE = 0.01
 
@@ -254,3 +255,20 @@ def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
         expected = turned(world_co(obj), centre, RAISE / 2) if obj.name == "arm" else world_co(obj)
         tolerance = 0.005 if obj.name == "arm" else 1e-6
         assert np.abs(half - expected).max() <= tolerance * size, obj.name
+
+
+def test_the_example_character_imports_in_draw_order(addon):
+    import bdinterp_blender
+    path = os.path.join(ROOT, "examples", "sprites", "character.ora")
+    with zipfile.ZipFile(path) as z:
+        layers = ET.fromstring(z.read("stack.xml")).find("stack")
+    objs = bdinterp_blender.import_layered(path, scale=SCALE)
+    assert [o.name for o in objs] == [layer.get("name") for layer in layers][::-1]
+    assert len(objs) >= 7
+    for obj, layer in zip(objs, list(layers)[::-1]):  # each within its layer's box (its PNG's size)
+        image = obj.data.materials[0].node_tree.nodes["Image Texture"].image
+        x, y, (w, h) = int(layer.get("x")), int(layer.get("y")), image.size
+        co = world_co(obj) / SCALE
+        assert x <= co[:, 0].min() and co[:, 0].max() <= x + w, obj.name
+        assert -y - h <= co[:, 2].min() and co[:, 2].max() <= -y, obj.name
+    assert_drawn_in_order(objs)
