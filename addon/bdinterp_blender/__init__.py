@@ -11,7 +11,7 @@ this file (registration).
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
     for _name in ("core", "names", "actions", "timing", "mesh_io", "rig", "settings", "solve", "playback", "live", "distortion",
-                  "baking", "export", "character", "sprite_mesh", "layered_import", "motion_trails", "api",
+                  "baking", "export", "character", "sprite_mesh", "painting_files", "layered_import", "motion_trails", "api",
                   "properties", "overlay", "onion", "drawing_bind", "operators", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])

@@ -1,55 +1,38 @@
-"""A layered painting in one step: OpenRaster (.ora: a zip with stack.xml and a PNG per layer, as
-Krita, GIMP and MyPaint write it) imported as cut-out pieces: each visible layer (groups flattened,
-hidden layers and groups skipped) becomes a mesh from its alpha (bdinterp.mesh_from_image),
-textured with its image, placed where the painting has it in Blender's front (XZ) plane: the
-canvas's x to +x, its y (downwards) to -z, one pixel = `scale` units, a layer drawn higher nearer
-the front view (smaller y). Everything is read and meshed before anything is created."""
+"""A layered painting in one step: the visible layers of an OpenRaster file or of COA Tools' JSON
+export (painting_files) imported as cut-out pieces: each layer becomes a mesh from its alpha
+(bdinterp.mesh_from_image; a sprite sheet's frame for several tiles), textured with its image
+(alpha blended, times the layer's opacity), placed where the painting has it in Blender's front
+(XZ) plane: the canvas's x to +x, its y (downwards) to -z, one pixel = `scale` units, the canvas's
+top-left corner at the origin, a layer drawn higher nearer the front view (smaller y). Everything
+is read and meshed before any object is created."""
 import os
 import tempfile
-import xml.etree.ElementTree as ET
-import zipfile
 
 import bpy
 
 from .core import load_core
+from .painting_files import read_painting
 from . import sprite_mesh
 
 DEPTH = 1e-3  # Blender units between consecutive layers, in the draw order
 
 
-def ora_layers(path):
-    """(canvas (w, h), [(name, src, x, y)] bottom layer first) of an OpenRaster file."""
-    try:
-        with zipfile.ZipFile(path) as z:
-            root = ET.fromstring(z.read("stack.xml"))
-    except (OSError, zipfile.BadZipFile, KeyError, ET.ParseError) as e:
-        raise ValueError("%r is not an OpenRaster file (%s)" % (os.fspath(path), e)) from None
-    layers = []
-
-    def walk(stack, dx, dy):  # a stack's first child is drawn on top
-        for node in stack:
-            if node.get("visibility", "visible") == "hidden":
-                continue
-            x, y = dx + int(float(node.get("x", 0))), dy + int(float(node.get("y", 0)))
-            if node.tag == "stack":
-                walk(node, x, y)
-            elif node.tag == "layer":
-                layers.append((node.get("name", node.get("src")), node.get("src"), x, y))
-    top = root.find("stack")
-    walk(top if top is not None else [], 0, 0)
-    return (int(root.get("w")), int(root.get("h"))), layers[::-1]
-
-
-def _material(name, image):
+def _material(name, image, opacity):
     mat = bpy.data.materials.new(name)
     if bpy.app.version < (5, 0, 0):
         mat.use_nodes = True
-    nodes = mat.node_tree.nodes
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
     tex = nodes.new("ShaderNodeTexImage")
     tex.image = image
     bsdf = next(n for n in nodes if n.type == 'BSDF_PRINCIPLED')
-    mat.node_tree.links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
-    mat.node_tree.links.new(tex.outputs["Alpha"], bsdf.inputs["Alpha"])
+    links.new(tex.outputs["Color"], bsdf.inputs["Base Color"])
+    alpha = tex.outputs["Alpha"]
+    if opacity < 1.0:  # the layer's opacity scales its image's alpha
+        times = nodes.new("ShaderNodeMath")
+        times.operation, times.inputs[1].default_value = 'MULTIPLY', opacity
+        links.new(alpha, times.inputs[0])
+        alpha = times.outputs[0]
+    links.new(alpha, bsdf.inputs["Alpha"])
     if hasattr(mat, "surface_render_method"):  # 4.2+
         mat.surface_render_method = 'BLENDED'
     else:
@@ -57,39 +40,66 @@ def _material(name, image):
     return mat
 
 
+def _load(layer, tmp, index):
+    """The layer's image, packed into the file; ValueError naming it if Blender cannot read it."""
+    file = layer.file
+    if file is None:
+        file = os.path.join(tmp, "%d.png" % index)
+        with open(file, "wb") as f:
+            f.write(layer.data)
+    try:
+        image = bpy.data.images.load(file, check_existing=False)
+    except RuntimeError as e:
+        raise ValueError("layer %r: %s" % (layer.name, e)) from None
+    image.name = layer.name
+    if image.size[0] == 0 or image.size[1] == 0:
+        bpy.data.images.remove(image)
+        raise ValueError("layer %r: %r is not an image Blender can read" % (layer.name, file))
+    image.pack()
+    return image
+
+
+def _piece(bd, np, layer, image, params):
+    """(vertices (n, 3) at depth 0, faces, uvs) of the layer's image (its frame of a sprite sheet)."""
+    columns, rows, frame = layer.tiles
+    w, h = image.size
+    tw, th = w // columns, h // rows
+    if tw < 2 or th < 2:
+        raise ValueError("layer %r: %d x %d tiles of a %d x %d image are too small"
+                         % (layer.name, columns, rows, w, h))
+    left, top = (frame % columns) * tw, (frame // columns) * th
+    alpha = sprite_mesh.alpha_of(image)[top:top + th, left:left + tw]
+    try:
+        mesh = bd.mesh_from_image(np.ascontiguousarray(alpha), **params)
+    except (bd.InvalidInputError, RuntimeError) as e:
+        raise ValueError("layer %r: %s" % (layer.name, e)) from None
+    V = mesh.vertices  # pixels in the frame, y up from its bottom
+    co = np.c_[(layer.x + V[:, 0]), np.zeros(len(V)), -(layer.y + th - V[:, 1])]
+    uvs = (V + [left, h - top - th]) / [w, h]
+    return co, mesh.faces, uvs
+
+
 def _plans(path, scale, params):
-    """Per visible layer: (name, image, vertices (n, 3), faces, uvs); images loaded and packed."""
+    """Per visible layer, bottom first: (name, image, opacity, vertices (n, 3), faces, uvs)."""
     import numpy as np
     bd = load_core()
-    (_, _), layers = ora_layers(path)
+    layers = read_painting(path)
     if not layers:
         raise ValueError("%r has no visible layer" % os.fspath(path))
     plans, images = [], []
     try:
-        with zipfile.ZipFile(path) as z, tempfile.TemporaryDirectory() as tmp:
-            for depth, (name, src, x, y) in enumerate(layers):
-                try:
-                    data = z.read(src)
-                except KeyError:
-                    raise ValueError("%r: layer %r's image %r is missing" % (os.fspath(path), name, src)) from None
-                file = os.path.join(tmp, "%d.png" % depth)
-                with open(file, "wb") as f:
-                    f.write(data)
-                image = bpy.data.images.load(file)
-                images.append(image)
-                image.pack()
-                image.name = name
-                try:
-                    mesh = bd.mesh_from_image(sprite_mesh.alpha_of(image), **params)
-                except (bd.InvalidInputError, RuntimeError) as e:
-                    raise ValueError("%r: layer %r: %s" % (os.fspath(path), name, e)) from None
-                h = image.size[1]
-                V = mesh.vertices
-                co = np.c_[(x + V[:, 0]) * scale, np.full(len(V), -depth * DEPTH), -(y + h - V[:, 1]) * scale]
-                plans.append((name, image, co, mesh.faces, mesh.uvs))
-    except BaseException:
+        with tempfile.TemporaryDirectory() as tmp:
+            for depth, layer in enumerate(layers):
+                images.append(_load(layer, tmp, depth))
+                co, faces, uvs = _piece(bd, np, layer, images[-1], params)
+                co *= scale
+                co[:, 1] = -depth * DEPTH
+                plans.append((layer.name, images[-1], layer.opacity, co, faces, uvs))
+    except BaseException as e:
         for image in images:
             bpy.data.images.remove(image)
+        if isinstance(e, ValueError):  # a layer's error, said with the file's name
+            raise ValueError("%r: %s" % (os.fspath(path), e)) from None
         raise
     return plans
 
@@ -118,7 +128,8 @@ def import_layered(path, *, one_object=False, scale=0.01, **params):
     """The painting's visible layers as meshes (one object per layer, or one layered object);
     returns the objects, selected. ValueError naming the file or layer, with nothing imported."""
     plans = _plans(path, scale, params)
-    parts = [(_material(name, image), co, faces, uvs) for name, image, co, faces, uvs in plans]
+    parts = [(_material(name, image, opacity), co, faces, uvs)
+             for name, image, opacity, co, faces, uvs in plans]
     if one_object:
         objs = [_object(os.path.splitext(os.path.basename(os.fspath(path)))[0], parts)]
     else:
@@ -132,13 +143,14 @@ def import_layered(path, *, one_object=False, scale=0.01, **params):
 
 
 class BDINTERP_OT_import_layered(bpy.types.Operator):
-    """Import a layered painting (OpenRaster .ora) as cut-out pieces meshed from each layer's alpha"""
+    """Import a layered painting (OpenRaster .ora, or COA Tools' .json export) as cut-out pieces
+    meshed from each layer's alpha"""
     bl_idname = "bdinterp.import_layered"
     bl_label = "Layered painting (bdinterp)"
     bl_options = {'REGISTER', 'UNDO'}
 
     filepath: bpy.props.StringProperty(subtype='FILE_PATH')
-    filter_glob: bpy.props.StringProperty(default="*.ora", options={'HIDDEN'})
+    filter_glob: bpy.props.StringProperty(default="*.ora;*.json", options={'HIDDEN'})
     one_object: bpy.props.BoolProperty(name="One object", default=False)
     scale: bpy.props.FloatProperty(name="Scale (units per pixel)", default=0.01, min=1e-6)
 

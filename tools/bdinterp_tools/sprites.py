@@ -6,7 +6,7 @@ import numpy as np
 SUB = 4
 
 
-def _coverage(h, w, inside):
+def coverage(h, w, inside):
     """Fraction of each pixel's 4x4 sub-samples where inside(x, y) holds (x right, y down, pixels)."""
     s = (np.arange(SUB) + 0.5) / SUB
     y, x = np.mgrid[0:h, 0:w].astype(float)
@@ -17,7 +17,7 @@ def _coverage(h, w, inside):
     return cover / SUB ** 2
 
 
-def _rgba(alpha, color=(200, 120, 60)):
+def rgba(alpha, color=(200, 120, 60)):
     out = np.zeros(alpha.shape + (4,), np.uint8)
     out[..., :3] = color
     out[..., 3] = np.round(np.clip(alpha, 0, 1) * 255).astype(np.uint8)
@@ -30,7 +30,7 @@ def _disc(cx, cy, r):
 
 def ring(size=128):
     c = size / 2
-    return _rgba(_coverage(size, size, lambda x, y: _disc(c, c, 0.4 * size)(x, y) & ~_disc(c, c, 0.2 * size)(x, y)))
+    return rgba(coverage(size, size, lambda x, y: _disc(c, c, 0.4 * size)(x, y) & ~_disc(c, c, 0.2 * size)(x, y)))
 
 
 def letter_b(size=128):
@@ -46,11 +46,11 @@ def letter_b(size=128):
             hole = ((x - cx * size) ** 2 / (0.2 * size) ** 2 + (y - cy * size) ** 2 / (0.1 * size) ** 2 <= 1)
             shape &= ~(hole & (x >= 0.35 * size))
         return shape
-    return _rgba(_coverage(size, size, inside))
+    return rgba(coverage(size, size, inside))
 
 
 def two_islands(size=128):
-    return _rgba(_coverage(size, size, lambda x, y: _disc(0.28 * size, 0.5 * size, 0.2 * size)(x, y)
+    return rgba(coverage(size, size, lambda x, y: _disc(0.28 * size, 0.5 * size, 0.2 * size)(x, y)
                            | _disc(0.75 * size, 0.45 * size, 0.15 * size)(x, y)))
 
 
@@ -59,12 +59,12 @@ def line(size=128):
     alpha = np.zeros((size, size))
     x = np.arange(int(0.1 * size), int(0.9 * size))
     alpha[np.round(0.3 * size + 0.4 * (x - x[0])).astype(int), x] = 1.0
-    return _rgba(alpha)
+    return rgba(alpha)
 
 
 def border(size=128):
     """A disc cut by the image's left and bottom edges."""
-    return _rgba(_coverage(size, size, _disc(0.15 * size, 0.8 * size, 0.45 * size)))
+    return rgba(coverage(size, size, _disc(0.15 * size, 0.8 * size, 0.45 * size)))
 
 
 def soft_blob(size=128):
@@ -72,7 +72,7 @@ def soft_blob(size=128):
     y, x = np.mgrid[0:size, 0:size] + 0.5
     dx, dy = x - size / 2, y - size / 2
     radius = 0.33 * size * (1 + 0.15 * np.sin(3 * np.arctan2(dy, dx)))
-    return _rgba(np.clip((radius - np.hypot(dx, dy)) / (0.08 * size) + 0.5, 0, 1))
+    return rgba(np.clip((radius - np.hypot(dx, dy)) / (0.08 * size) + 0.5, 0, 1))
 
 
 SPRITES = {"ring": ring, "letter_b": letter_b, "two_islands": two_islands, "line": line,

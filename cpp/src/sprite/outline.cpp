@@ -2,57 +2,110 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <utility>
+#include <vector>
 
 #include "sprite/outline.h"
 
 namespace bdinterp::sprite {
 namespace {
 
-// Crossing ids: the horizontal edge from sample (i, j) to (i+1, j) is j*width + i, the vertical one
-// from (i, j) to (i, j+1) is width*height + j*width + i.
-struct Edges {
-  int64_t width, count;
-  int64_t h(int i, int j) const { return int64_t(j) * width + i; }
-  int64_t v(int i, int j) const { return count + int64_t(j) * width + i; }
-};
+// The sides of a cell (i, j): bottom (i, j)-(i+1, j), right (i+1, j)-(i+1, j+1), top
+// (i, j+1)-(i+1, j+1), left (i, j)-(i, j+1). A side's opposite is (side + 2) & 3, in the
+// neighbour that shares it, which lies one step in kStep[side].
+enum Side { kBottom, kRight, kTop, kLeft };
+constexpr int kStep[4][2] = {{0, -1}, {1, 0}, {0, 1}, {-1, 0}};
 
-Point crossing(const Field& f, const Edges& e, int64_t id) {
-  const bool vertical = id >= e.count;
-  const int64_t k = vertical ? id - e.count : id;
-  const int i = int(k % e.width), j = int(k / e.width);
-  const double a = f.at(i, j), b = vertical ? f.at(i, j + 1) : f.at(i + 1, j);
+// The zero of the field on a side of cell (i, j), linear between the side's two samples.
+Point crossing(const Field& f, int i, int j, int side) {
+  const int i0 = i + (side == kRight), j0 = j + (side == kTop);  // the side's first sample
+  const bool vertical = side == kRight || side == kLeft;
+  const double a = f.at(i0, j0), b = vertical ? f.at(i0, j0 + 1) : f.at(i0 + 1, j0);
   const double t = a / (a - b);
-  return vertical ? f.position(i, j + t) : f.position(i + t, j);
+  return vertical ? f.position(i0, j0 + t) : f.position(i0 + t, j0);
 }
 
-// The segments of one cell, from -> to with the inside on the left; bit 0: (i, j), bit 1: (i+1, j),
-// bit 2: (i+1, j+1), bit 3: (i, j+1). Returns the number of segments (0, 1 or 2).
-int cell_segments(const Field& f, const Edges& e, int i, int j, int64_t seg[4]) {
-  const float c[4] = {f.at(i, j), f.at(i + 1, j), f.at(i + 1, j + 1), f.at(i, j + 1)};
-  const int code = (c[0] >= 0) | (c[1] >= 0) << 1 | (c[2] >= 0) << 2 | (c[3] >= 0) << 3;
-  if (code == 0 || code == 15) return 0;
-  const int64_t B = e.h(i, j), R = e.v(i + 1, j), T = e.h(i, j + 1), L = e.v(i, j);
-  auto one = [&](int64_t a, int64_t b) { seg[0] = a, seg[1] = b; return 1; };
-  auto two = [&](int64_t a, int64_t b, int64_t p, int64_t q) {
+// The cells that may hold a crossing (those touching a sample that may be inside), inclusive.
+struct Cells {
+  int i0, i1, j0, j1;
+  bool empty() const { return i1 < i0 || j1 < j0; }
+  size_t index(int i, int j) const { return size_t(j - j0) * size_t(i1 - i0 + 1) + size_t(i - i0); }
+  size_t count() const { return empty() ? 0 : index(i1, j1) + 1; }
+  bool has(int i, int j) const { return i0 <= i && i <= i1 && j0 <= j && j <= j1; }
+};
+
+Cells cells_of(const Field& f) {
+  return {std::max(0, f.lo_i - 1), std::min(f.width - 2, f.hi_i), std::max(0, f.lo_j - 1),
+          std::min(f.height - 2, f.hi_j)};
+}
+
+// Corner bits of cell (i, j): bit 0: (i, j), bit 1: (i+1, j), bit 2: (i+1, j+1), bit 3: (i, j+1).
+int code_of(const Field& f, int i, int j) {
+  return (f.at(i, j) >= 0) | (f.at(i + 1, j) >= 0) << 1 | (f.at(i + 1, j + 1) >= 0) << 2 | (f.at(i, j + 1) >= 0) << 3;
+}
+
+// visit(i, j, code) for every cell of c that the zero level crosses, row by row (j, then i); each
+// row reads its two sample rows once, the right column's bits becoming the next cell's left ones.
+template <class Visit>
+void for_each_crossed_cell(const Field& f, const Cells& c, Visit visit) {
+  for (int j = c.j0; j <= c.j1; ++j) {
+    const float* lo = &f.value[size_t(j) * f.width];
+    const float* hi = lo + f.width;
+    int left = (lo[c.i0] >= 0) | (hi[c.i0] >= 0) << 3;
+    for (int i = c.i0; i <= c.i1; ++i) {
+      const int right = (lo[i + 1] >= 0) << 1 | (hi[i + 1] >= 0) << 2;
+      const int code = left | right;
+      left = (right >> 1 & 1) | (right << 1 & 8);
+      if (code != 0 && code != 15) visit(i, j, code);
+    }
+  }
+}
+
+// The segments of one cell (its corner code) as sides, from -> to with the inside on the left.
+// Returns the number of segments (0, 1 or 2).
+int cell_segments(const Field& f, int i, int j, int code, int seg[4]) {
+  constexpr int B = kBottom, R = kRight, T = kTop, L = kLeft;
+  auto one = [&](int a, int b) { seg[0] = a, seg[1] = b; return 1; };
+  auto two = [&](int a, int b, int p, int q) {
     seg[0] = a, seg[1] = b, seg[2] = p, seg[3] = q;
     return 2;
   };
-  const bool centre_in = c[0] + c[1] + c[2] + c[3] >= 0;
+  auto centre_in = [&] { return f.at(i, j) + f.at(i + 1, j) + f.at(i + 1, j + 1) + f.at(i, j + 1) >= 0; };
   switch (code) {
+    case 0: case 15: return 0;
     case 1: return one(B, L);
     case 2: return one(R, B);
     case 3: return one(R, L);
     case 4: return one(T, R);
-    case 5: return centre_in ? two(B, R, T, L) : two(B, L, T, R);
+    case 5: return centre_in() ? two(B, R, T, L) : two(B, L, T, R);
     case 6: return one(T, B);
     case 7: return one(T, L);
     case 8: return one(L, T);
     case 9: return one(B, T);
-    case 10: return centre_in ? two(L, B, R, T) : two(R, B, L, T);
+    case 10: return centre_in() ? two(L, B, R, T) : two(R, B, L, T);
     case 11: return one(R, T);
     case 12: return one(L, R);
     case 13: return one(B, R);
     default: return one(L, B);  // 14
+  }
+}
+
+// The loop through segment s of cell (i, j): from cell to cell across each segment's `to` side
+// (the neighbour's segment that starts there comes next), marking each segment used, until it
+// closes.
+Loop follow(const Field& f, const Cells& c, std::vector<uint8_t>& used, int i, int j, int s) {
+  Loop loop;
+  int seg[4];
+  cell_segments(f, i, j, code_of(f, i, j), seg);
+  for (;;) {
+    used[c.index(i, j)] |= uint8_t(1 << s);
+    loop.push_back(crossing(f, i, j, seg[2 * s]));
+    const int out = seg[2 * s + 1], in = (out + 2) & 3;
+    i += kStep[out][0], j += kStep[out][1];
+    if (!c.has(i, j)) return loop;  // (never: a crossing's cells both touch an inside sample)
+    const int n = cell_segments(f, i, j, code_of(f, i, j), seg);
+    s = n > 0 && seg[0] == in ? 0 : n > 1 && seg[2] == in ? 1 : -1;
+    if (s < 0 || (used[c.index(i, j)] >> s & 1)) return loop;
   }
 }
 
@@ -67,11 +120,24 @@ bool inside_loop(const Loop& loop, const Point& p) {
   return in;
 }
 
-double segment_distance(const Point& p, const Point& a, const Point& b) {
+double squared_distance(const Point& p, const Point& a, const Point& b) {
   const Point ab = b - a;
   const double len2 = ab.squaredNorm();
   const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
-  return (a + t * ab - p).norm();
+  return (a + t * ab - p).squaredNorm();
+}
+
+// The outline's segments (from, to), cell by cell.
+std::vector<std::pair<Point, Point>> segments_of(const Field& f) {
+  const Cells c = cells_of(f);
+  std::vector<std::pair<Point, Point>> out;
+  if (!c.empty())
+    for_each_crossed_cell(f, c, [&](int i, int j, int code) {
+      int seg[4];
+      for (int s = 0, n = cell_segments(f, i, j, code, seg); s < n; ++s)
+        out.emplace_back(crossing(f, i, j, seg[2 * s]), crossing(f, i, j, seg[2 * s + 1]));
+    });
+  return out;
 }
 
 }  // namespace
@@ -99,32 +165,16 @@ Field alpha_field(const Eigen::Ref<const AlphaImage>& alpha, double threshold, i
 }
 
 std::vector<Loop> trace(const Field& f) {
-  const Edges e{f.width, int64_t(f.width) * f.height};
-  std::unordered_map<int64_t, int64_t> next;  // from -> to, per crossing (few: the outline's)
-  std::vector<int64_t> starts;
-  int64_t seg[4];
-  // Only the cells that touch a sample that may be inside.
-  for (int j = std::max(0, f.lo_j - 1); j + 1 < f.height && j <= f.hi_j; ++j)
-    for (int i = std::max(0, f.lo_i - 1); i + 1 < f.width && i <= f.hi_i; ++i) {
-      const int n = cell_segments(f, e, i, j, seg);
-      for (int s = 0; s < n; ++s) {
-        next[seg[2 * s]] = seg[2 * s + 1];
-        starts.push_back(seg[2 * s]);
-      }
-    }
+  const Cells c = cells_of(f);
+  std::vector<uint8_t> used(c.count(), 0);  // per cell: bit s set once its segment s is on a loop
   std::vector<Loop> loops;
-  for (int64_t start : starts) {
-    auto at = next.find(start);
-    if (at == next.end()) continue;  // already on a loop
-    Loop loop;
-    while (at != next.end()) {
-      loop.push_back(crossing(f, e, at->first));
-      const int64_t to = at->second;
-      next.erase(at);
-      at = next.find(to);
-    }
-    loops.push_back(std::move(loop));
-  }
+  if (c.empty()) return loops;
+  for_each_crossed_cell(f, c, [&](int i, int j, int code) {
+    int seg[4];
+    const int n = cell_segments(f, i, j, code, seg);
+    for (int s = 0; s < n; ++s)
+      if (!(used[c.index(i, j)] >> s & 1)) loops.push_back(follow(f, c, used, i, j, s));
+  });
   return loops;
 }
 
@@ -137,15 +187,17 @@ double signed_area(const Loop& loop) {
 
 Dropped drop_small(Field& f, std::vector<Loop>& loops, double min_area) {
   Dropped dropped;
-  std::vector<Loop> kept, small;
-  for (Loop& loop : loops)
-    (std::abs(signed_area(loop)) >= min_area ? kept : small).push_back(std::move(loop));
-  // Smallest first: an island inside a small hole is flipped out, then the hole (and it) filled.
-  std::sort(small.begin(), small.end(), [](const Loop& a, const Loop& b) {
-    return std::abs(signed_area(a)) < std::abs(signed_area(b));
-  });
-  for (const Loop& loop : small) {
+  std::vector<Loop> kept;
+  std::vector<std::pair<double, Loop>> small;  // (signed area, loop)
+  for (Loop& loop : loops) {
     const double area = signed_area(loop);
+    if (std::abs(area) >= min_area) kept.push_back(std::move(loop));
+    else small.emplace_back(area, std::move(loop));
+  }
+  // Smallest first: an island inside a small hole is flipped out, then the hole (and it) filled.
+  std::stable_sort(small.begin(), small.end(),
+                   [](const auto& a, const auto& b) { return std::abs(a.first) < std::abs(b.first); });
+  for (const auto& [area, loop] : small) {
     (area > 0 ? dropped.islands : dropped.holes) += 1;
     // An island's samples become outside, a hole's inside (they lie in the loop's bounding box).
     Eigen::AlignedBox2d box;
@@ -164,35 +216,40 @@ Dropped drop_small(Field& f, std::vector<Loop>& loops, double min_area) {
   return dropped;
 }
 
-Field grown(const Field& f, const std::vector<Loop>& loops, double padding) {
+Field grown(Field f, double padding) {
+  const std::vector<std::pair<Point, Point>> segments = segments_of(f);  // before the field changes
   // Outside samples: padding - (distance to the outline, capped at `reach`), so the zero level is
-  // exact where it matters (neighbours of a crossing lie within padding + 1 of the outline).
+  // exact where it matters (neighbours of a crossing lie within padding + 1 of the outline). While
+  // the segments are visited an outside sample holds minus its distance so far; a segment's square
+  // root is taken only where its squared distance is smaller.
   const double reach = padding + 1.5;
-  Field g = f;
-  std::vector<float> distance(g.value.size(), float(reach));
-  for (const Loop& loop : loops)
-    for (size_t k = 0, l = loop.size() - 1; k < loop.size(); l = k++) {
-      const Point &a = loop[l], &b = loop[k];
-      const int i0 = std::max(0, int(std::floor(std::min(a.x(), b.x()) - reach + f.margin - 0.5)));
-      const int i1 = std::min(f.width - 1, int(std::ceil(std::max(a.x(), b.x()) + reach + f.margin - 0.5)));
-      const int j0 = std::max(0, int(std::floor(std::min(a.y(), b.y()) - reach + f.margin - 0.5)));
-      const int j1 = std::min(f.height - 1, int(std::ceil(std::max(a.y(), b.y()) + reach + f.margin - 0.5)));
-      for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) {
-          float& d = distance[size_t(j) * f.width + i];
-          d = std::min(d, float(segment_distance(f.position(i, j), a, b)));
-        }
-    }
   const int grow = int(std::ceil(reach));
-  g.lo_i = std::max(0, f.lo_i - grow), g.hi_i = std::min(f.width - 1, f.hi_i + grow);
-  g.lo_j = std::max(0, f.lo_j - grow), g.hi_j = std::min(f.height - 1, f.hi_j + grow);
-  for (int j = g.lo_j; j <= g.hi_j; ++j)
-    for (int i = g.lo_i; i <= g.hi_i; ++i) {
-      const size_t s = size_t(j) * f.width + i;
-      const float v = g.value[s] >= 0 ? float(padding + 1.0) : float(padding) - distance[s];
-      g.value[s] = v == 0.0f ? 1e-6f : v;
+  f.lo_i = std::max(0, f.lo_i - grow), f.hi_i = std::min(f.width - 1, f.hi_i + grow);
+  f.lo_j = std::max(0, f.lo_j - grow), f.hi_j = std::min(f.height - 1, f.hi_j + grow);
+  const float inside = float(padding + 1.0);
+  for (int j = f.lo_j; j <= f.hi_j; ++j)
+    for (int i = f.lo_i; i <= f.hi_i; ++i) f.at(i, j) = f.at(i, j) >= 0 ? inside : -float(reach);
+  for (const auto& [a, b] : segments) {
+    const int i0 = std::max(f.lo_i, int(std::floor(std::min(a.x(), b.x()) - reach + f.margin - 0.5)));
+    const int i1 = std::min(f.hi_i, int(std::ceil(std::max(a.x(), b.x()) + reach + f.margin - 0.5)));
+    const int j0 = std::max(f.lo_j, int(std::floor(std::min(a.y(), b.y()) - reach + f.margin - 0.5)));
+    const int j1 = std::min(f.hi_j, int(std::ceil(std::max(a.y(), b.y()) + reach + f.margin - 0.5)));
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i) {
+        float& v = f.at(i, j);
+        if (v > 0) continue;  // inside
+        const double d2 = squared_distance(f.position(i, j), a, b);
+        if (d2 < double(v) * double(v)) v = std::max(v, -float(std::sqrt(d2)));
+      }
+  }
+  for (int j = f.lo_j; j <= f.hi_j; ++j)
+    for (int i = f.lo_i; i <= f.hi_i; ++i) {
+      float& v = f.at(i, j);
+      if (v > 0) continue;
+      v = float(padding) + v;  // padding - distance
+      if (v == 0.0f) v = 1e-6f;  // no crossing on a sample
     }
-  return g;
+  return f;
 }
 
 }  // namespace bdinterp::sprite

@@ -4,7 +4,7 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <unordered_map>
+#include <cstdint>
 #include <vector>
 
 #include "bdinterp/sprite_mesh.h"
@@ -42,9 +42,9 @@ struct Dropped {
 // Removes the loops smaller than min_area from `loops` and from `field` (their samples flipped).
 Dropped drop_small(Field& field, std::vector<Loop>& loops, double min_area);
 
-// The field whose zero level lies `padding` pixels outside the loops of `field` (a distance field
-// near them); padding > 0.
-Field grown(const Field& field, const std::vector<Loop>& loops, double padding);
+// The field whose zero level lies `padding` pixels outside the zero level of `field` (a distance
+// field near it); padding > 0.
+Field grown(Field field, double padding);
 
 // Douglas-Peucker within `detail` per loop, convex corners sharper than min_angle blunted within
 // `detail`, loops kept simple and apart (a loop that would cross is simplified less).

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 
 #include "bdinterp/sprite_mesh.h"
 #include "bdinterp/types.h"
@@ -56,12 +57,13 @@ SpriteMesh mesh_from_alpha(const Eigen::Ref<const AlphaImage>& alpha, const Spri
   sprite::Field field = sprite::alpha_field(alpha, o.threshold, int(std::ceil(o.padding)) + 2);
   std::vector<sprite::Loop> loops = sprite::trace(field);
   sprite::Dropped dropped = sprite::drop_small(field, loops, o.min_area);
-  if (dropped.islands + dropped.holes > 0) loops = sprite::trace(field);
-  if (o.padding > 0) {
-    field = sprite::grown(field, loops, o.padding);
+  if (o.padding > 0) {  // (grown reads the outline from the field: no trace after the drop)
+    field = sprite::grown(std::move(field), o.padding);
     loops = sprite::trace(field);
     const sprite::Dropped closed = sprite::drop_small(field, loops, o.min_area);  // closed by the padding
     dropped.islands += closed.islands, dropped.holes += closed.holes;
+  } else if (dropped.islands + dropped.holes > 0) {
+    loops = sprite::trace(field);
   }
   check(!loops.empty(), "every island is smaller than min_area " + std::to_string(o.min_area) + " pixels^2");
   double area = 0;
