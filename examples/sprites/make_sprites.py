@@ -16,17 +16,12 @@ HERE = pathlib.Path(__file__).resolve().parent
 sys.path[:0] = [str(HERE.parents[1] / "tools")]
 
 import bdinterp  # noqa: E402
-from bdinterp_tools.sprites import SPRITES  # noqa: E402
+from bdinterp_tools.sprites import SPRITES, triangle_angles  # noqa: E402
 
 
 def smallest_angles(V, F):
-    P = V[F]
-    out = []
-    for k in range(3):
-        u, w = P[:, (k + 1) % 3] - P[:, k], P[:, (k + 2) % 3] - P[:, k]
-        cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
-    return np.min(out, axis=0)
+    """(m,) the smallest angle (degrees) of every triangle."""
+    return triangle_angles(V, F).min(axis=1)
 
 
 def main():

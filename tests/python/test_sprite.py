@@ -6,7 +6,7 @@ from matplotlib.tri import Triangulation
 from scipy.spatial import cKDTree
 
 import bdinterp
-from bdinterp_tools.sprites import EXPECTED, SPRITES
+from bdinterp_tools.sprites import EXPECTED, SPRITES, triangle_angles
 
 pytestmark = pytest.mark.skipif(not getattr(bdinterp._core, "has_sprite_mesher", False),
                                 reason="this build has no sprite mesher (no CGAL)")
@@ -42,17 +42,6 @@ def boundary_distance(points, V, F):
     return np.linalg.norm(a + t[..., None] * ab - points[:, None, :], axis=-1).min(axis=1)
 
 
-def angles(V, F):
-    """(m, 3) interior angles in degrees."""
-    P = V[F]
-    out = []
-    for k in range(3):
-        u, w = P[:, (k + 1) % 3] - P[:, k], P[:, (k + 2) % 3] - P[:, k]
-        cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
-        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
-    return np.array(out).T
-
-
 def test_coverage(sprite):
     name, image, mesh = sprite
     centres = inside_centres(image)
@@ -85,7 +74,7 @@ def test_topology_kept(sprite):
 def test_quality(sprite):
     name, _, mesh = sprite
     V, F = mesh.vertices, mesh.faces
-    smallest = angles(V, F).min(axis=1)
+    smallest = triangle_angles(V, F).min(axis=1)
     assert (smallest < MIN_ANGLE - 1e-6).mean() <= 0.01, (name, np.sort(smallest)[:5])
     assert smallest.min() >= MIN_ANGLE / 2, (name, smallest.min())
     e, count = edges(F)

@@ -6,6 +6,17 @@ import numpy as np
 SUB = 4
 
 
+def triangle_angles(V, F):
+    """(m, 3) interior angles in degrees of the triangles F (m, 3) of V (n, 2)."""
+    P = V[F]
+    out = []
+    for k in range(3):
+        u, w = P[:, (k + 1) % 3] - P[:, k], P[:, (k + 2) % 3] - P[:, k]
+        cos = (u * w).sum(1) / np.linalg.norm(u, axis=1) / np.linalg.norm(w, axis=1)
+        out.append(np.degrees(np.arccos(np.clip(cos, -1, 1))))
+    return np.array(out).T
+
+
 def coverage(h, w, inside):
     """Fraction of each pixel's 4x4 sub-samples where inside(x, y) holds (x right, y down, pixels)."""
     s = (np.arange(SUB) + 0.5) / SUB
