@@ -53,13 +53,13 @@ class BakeJob:
 
     def __init__(self, obj, target, source=None, count=3, factors=None, easing="LINEAR",
                  anchor="AUTO", anchor_path=None, method="bdi", tolerance=DEFAULT_TOLERANCE,
-                 drivers=True, joints=True):
+                 drivers=True, joints=True, threads=0):
         self.started = time.perf_counter()
         self.positions, ts = timing.schedule(count, factors, easing)
         self.inp = self.inputs(obj, source, target, anchor, anchor_path, tolerance, joints)
         self.names = timing.key_names(self.inp.others[0].name, ts)
         self.factors, self.drivers = ts, drivers
-        self.job = solve.FrameJob(self.inp, ts, method)
+        self.job = solve.FrameJob(self.inp, ts, method, threads=threads)
 
     @staticmethod
     def inputs(obj, source, target, anchor, anchor_path, tolerance, joints):

@@ -51,6 +51,8 @@ void bind_stats(py::module_& m) {
         "vertices filled in by the fold region's Poisson solve");
   field(cls, *names, "joints", &FrameStats::joints,
         "joints between overlapping pieces (docs/JOINTS.md); 0 when they are off or none overlap");
+  field(cls, *names, "threads", &FrameStats::threads,
+        "threads that ran: frames()'s workers (one thread each), or the most one loop of a frame ran on");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {
