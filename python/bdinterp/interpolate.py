@@ -197,7 +197,8 @@ class Interpolator:
     @property
     def stats(self):
         """FrameStats of the last at()/blend() (or of all frames of the last frames()): attributes
-        (and keys) iterations, residual (max |2 pi - angle sum|),
+        (and keys) iterations (the most Newton steps of one convex solve), convex_solves (one
+        per piece, more where holes' periods are closed), residual (max |2 pi - angle sum|),
         broken_triangles, max_broken_triangles, line_search_steps, flatness, pieces,
         factorizations, chord_steps, seconds, converged (the self-check passed), warnings (why
         not), hole_closure (per hole: the translation period of the flat metric around it relative
