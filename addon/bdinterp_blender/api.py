@@ -28,11 +28,11 @@ __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
              anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
-             joints="auto"):
+             joints="auto", threads=0):
     """The validated BakeJob of a bake (parameters as in bake()), not yet computed: one object's,
     or, for a list of objects of which several have the target key, the character's."""
     return job_of(obj, BakeSettings(target, source, count, factors, easing, anchor, anchor_path,
-                                    method, planarity, drivers, joints))
+                                    method, planarity, drivers, joints, threads=threads))
 
 
 def job_of(obj, settings):
@@ -47,7 +47,7 @@ def job_of(obj, settings):
 
 def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINEAR",
                    anchor="AUTO", anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE,
-                   progress=None, joints="auto"):
+                   progress=None, joints="auto", threads=0):
     """Compute in-betweens without writing anything.
 
     Returns (inputs, positions, factors, frames) with frames a (k, n, 3) float64 array in the
@@ -55,14 +55,14 @@ def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINE
     after the other, inputs.offsets where each begins).  Parameters as in bake().
     """
     job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   planarity, True, joints)
+                   planarity, True, joints, threads)
     run(job, progress)
     return job.inp, job.positions, job.factors, job.job.frames()
 
 
 def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
          anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
-         progress=None, joints="auto"):
+         progress=None, joints="auto", threads=0):
     """Bake in-betweens of `source` -> `target` into new shape keys; return a BakeResult.
 
     obj: mesh object with shape keys, or a list of them: those that have the target key are
@@ -80,6 +80,7 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     pinned at the bone's head: an Armature modifier's vertex groups or a parent bone), 'pins'
     (overlapping pieces that turn about a common point in both keys), 'auto' (bones where every
     piece has one, else pins; also True) or 'off' (each piece on its own rigid path; also False).
+    threads: the solver's workers, a frame each at a time (0: one per usable core).
 
     Keys are named '<target>.bdi.<percent>' (e.g. 'Arm_up.bdi.050'), hold the in-between shape
     and are relative to the source key; an earlier bake of the same pair is replaced (also
@@ -89,7 +90,7 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     only if that has no keyframes, driver or value of its own (else a copy, result.note says so).
     """
     job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   planarity, drivers, joints)
+                   planarity, drivers, joints, threads)
     run(job, progress)
     return job.finish()
 

@@ -60,7 +60,8 @@ class BakeJob:
         self.inp = self.inputs(obj, settings)
         self.names = timing.key_names(self.inp.others[0].name, ts)
         self.factors, self.drivers = ts, settings.drivers
-        self.job = solve.FrameJob(self.inp, ts, settings.method)
+        self.job = solve.FrameJob(self.inp, ts, settings.method,
+                                  threads=settings.threads)
 
     @staticmethod
     def inputs(obj, settings):

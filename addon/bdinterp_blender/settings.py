@@ -19,7 +19,8 @@ class BakeSettings:
     vertex); anchor_path: the name of a curve object the anchor follows, or None; method: 'bdi',
     'arap' or 'linear'; planarity: how far a vertex may lie off its piece's plane, relative to
     the mesh size; drivers: a slider drives the keys; joints: 'auto', 'bones', 'pins' or 'off';
-    poses: the pose keys of a pose blend."""
+    poses: the pose keys of a pose blend; threads: the solver's workers (0: one per usable
+    core)."""
     target: str = ""
     source: object = None
     count: int = 3
@@ -32,6 +33,7 @@ class BakeSettings:
     drivers: bool = True
     joints: str = "auto"
     poses: tuple = ()
+    threads: int = 0
 
     def __post_init__(self):
         object.__setattr__(self, "source", self.source or None)  # '' is the reference key too

@@ -8,7 +8,7 @@ polygon indices).
 
 from . import mesh_io, rig
 from .mesh_io import BakeError
-from .names import CHUNK
+from .names import FRAMES_PER_WORKER
 
 
 def core():
@@ -98,11 +98,13 @@ class Inputs:
     def _polygon(self, f):
         return "polygon %d" % self.poly[f] if 0 <= f < len(self.poly) else "face %d" % f
 
-    def interpolator(self):
-        """A precomputed bdinterp.Interpolator of these shapes (base: the source)."""
+    def interpolator(self, threads=0):
+        """A precomputed bdinterp.Interpolator of these shapes (base: the source; threads: its
+        workers, 0 = one per usable core)."""
         try:
             return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0,
-                                       joints=self.joints, layers=self.layers)
+                                       joints=self.joints, layers=self.layers,
+                                       threads=threads)
         except ValueError as exc:
             raise self.explain(exc) from exc
 
@@ -164,15 +166,23 @@ def _anchor_path(obj, path_obj, vertex):
     return core().AnchorPath(ts, pts, angles, vertex=vertex)
 
 
+def frames_per_call(threads=0):
+    """Frames per step() of a FrameJob: FRAMES_PER_WORKER for each worker (threads, 0 = one per
+    usable core), so that a step takes about the same time on any number of cores."""
+    return FRAMES_PER_WORKER * (threads or core().threading_info()["usable_cores"])
+
+
 class FrameJob:
     """The frames of inp at factors ts, computed chunk by chunk (step()), so that a caller can show
     progress and cancel between chunks.  'bdi' goes through Interpolator.frames() (warm-started,
-    on all cores); 'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API."""
+    on `threads` workers, 0 = every usable core; its stats.threads: the threads that ran);
+    'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API."""
 
-    def __init__(self, inp, ts, method="bdi", chunk=CHUNK):
+    def __init__(self, inp, ts, method="bdi", chunk=None, threads=0):
+        chunk = frames_per_call(threads) if chunk is None else chunk
         self.inp, self.ts, self.method, self.chunk = inp, list(ts), method, max(1, int(chunk))
         self.done, self._parts = 0, []
-        self._solver = inp.interpolator() if method == "bdi" else None
+        self._solver = inp.interpolator(threads) if method == "bdi" else None
 
     @property
     def finished(self):

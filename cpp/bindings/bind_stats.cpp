@@ -23,7 +23,10 @@ void bind_stats(py::module_& m) {
   py::class_<FrameStats> cls(m, "FrameStats",
                              "Statistics of the last at()/blend(), or of all frames of frames().");
   auto names = std::make_shared<std::vector<std::string>>();
-  field(cls, *names, "iterations", &FrameStats::iterations, "Newton steps (the most over pieces)");
+  field(cls, *names, "iterations", &FrameStats::iterations,
+        "Newton steps of one convex solve (the most over solves, pieces and frames)");
+  field(cls, *names, "convex_solves", &FrameStats::convex_solves,
+        "convex solves (summed): one per piece, more where a piece's holes need closing");
   field(cls, *names, "residual", &FrameStats::residual,
         "max |2 pi - angle sum| at interior vertices (radians)");
   field(cls, *names, "broken_triangles", &FrameStats::broken_triangles,
@@ -51,6 +54,8 @@ void bind_stats(py::module_& m) {
         "vertices filled in by the fold region's Poisson solve");
   field(cls, *names, "joints", &FrameStats::joints,
         "joints between overlapping pieces (docs/JOINTS.md); 0 when they are off or none overlap");
+  field(cls, *names, "threads", &FrameStats::threads,
+        "threads that ran: frames()'s workers (one thread each), or the most one loop of a frame ran on");
   cls.def("keys", [names](const FrameStats&) { return *names; }, "The attribute names.")
       .def("as_dict",
            [names](py::object self) {

@@ -61,9 +61,9 @@ Eigen::Vector2d AnchorFrame::measure(const Positions& X, double* rot) const {
   const Faces& F = mesh_->faces();
   double* raw = rot + tree_.size();  // second half of the scratch: the angles as atan2 gives them
   const long slots = static_cast<long>(tree_.size());
-  const int threads = parallel::loop_threads(slots);
-  parallel::PerChunk psx(threads), psy(threads), parea(threads);  // signed: any orientation works
-  parallel::for_each(threads, slots, [&](int chunk, long k) {
+  const parallel::Loop faces(slots);
+  parallel::PerChunk psx(faces.chunks()), psy(faces.chunks()), parea(faces.chunks());  // signed: any orientation works
+  faces.run([&](int chunk, long k) {
     const int f = tree_[k][0];
     const int v0 = F(f, 0), v1 = F(f, 1), v2 = F(f, 2);
     const double e1x = X(v1, 0) - X(v0, 0), e1y = X(v1, 1) - X(v0, 1);

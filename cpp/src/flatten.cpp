@@ -35,6 +35,7 @@ void merge(FlattenReport& into, const FlattenReport& other) {
   into.line_search_steps += other.line_search_steps;
   into.factorizations += other.factorizations;
   into.chord_steps += other.chord_steps;
+  into.convex_solves += other.convex_solves;
 }
 
 Eigen::VectorXd scale_lengths(const Mesh& mesh, const Eigen::VectorXd& l2, const Eigen::VectorXd& u) {

@@ -88,20 +88,6 @@ class Flattener {
   Eigen::SparseMatrix<double> hessian(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
   // max |target - angle sum| over the unknowns.
   double residual(const Eigen::VectorXd& l2, const Eigen::VectorXd& u);
-  // After solve(), u being its solution: the solution for fixed offsets changed by `offset` (#V,
-  // zero where a vertex has no unknown), to first order and without evaluating the angles again:
-  // u += offset + the unknowns' response, from one linear solve (CG with the Hessian at the solution,
-  // preconditioned by the reusable factorisation) whose right-hand side is the defects plus the
-  // cotan Laplacian of the offsets. What it leaves in the defects is that solve's residual (<= half
-  // of tolerance * refinement) plus second order in the move, which must be <= max_move in every u.
-  // Returns false and changes nothing without a reusable factorisation, with broken faces, if the
-  // solve does not converge or the move is larger. flat_squared_lengths() follows u.
-  bool follow(const Eigen::VectorXd& offset, Eigen::VectorXd& u, double max_move, const FlattenOptions& options);
-  // d u / d offsets at the solution of the last solve() (and follow()s), applied to `offset` (#V,
-  // zero where a vertex has no unknown): move (#V) = offset + the unknowns' first-order response,
-  // its linear solve to max |residual| <= relative * max |right-hand side|. Changes no state.
-  // Returns false without a reusable factorisation, with broken faces or if the solve stalls.
-  bool response(const Eigen::VectorXd& offset, double relative, Eigen::VectorXd& move);
   // #E flat squared lengths exp(u_i + u_j) l2_ij at the solution of the last solve() (valid until
   // the next solve), so the layout need not recompute them.
   const Eigen::VectorXd& flat_squared_lengths() const;
@@ -127,6 +113,9 @@ class Flattener {
   struct State;  // the workspace (flatten.cpp)
 
  private:
+  // The holes' first-order steps at a solution (holes_response.cpp) read and move the workspace.
+  friend bool follow_offsets(Flattener&, const Eigen::VectorXd&, Eigen::VectorXd&, double, const FlattenOptions&);
+  friend bool offset_response(Flattener&, const Eigen::VectorXd&, double, Eigen::VectorXd&);
   std::shared_ptr<const FlattenPlan> plan_;
   std::unique_ptr<State> state_;
 };

@@ -63,16 +63,15 @@ inline void accumulate_face(const FaceSlots& s, const Evaluation& ev, bool want_
 
 }  // namespace
 
-void EnergyEvaluator::scale(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, int threads,
-                            Evaluation& out) {
+void EnergyEvaluator::scale(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, Evaluation& out) {
   const Edges& E = plan_->mesh.edges();
   const Eigen::Index nv = u.size(), ne = E.rows();
   exp_u_.resize(nv);
   out.scaled_l2.resize(ne);
   out.scaled_len.resize(ne);
   // exp(u_i + u_j) = exp(u_i) exp(u_j): one exp per vertex instead of one per edge.
-  parallel::for_each(threads, nv, [&](int, long v) { exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]); });
-  parallel::for_each(threads, ne, [&](int, long e) {
+  parallel::Loop(nv).run([&](int, long v) { exp_u_[v] = u[v] == 0.0 ? 1.0 : std::exp(u[v]); });
+  parallel::Loop(ne).run([&](int, long e) {
     out.scaled_l2[e] = l2[e] * (exp_u_[E(e, 0)] * exp_u_[E(e, 1)]);
     out.scaled_len[e] = std::sqrt(out.scaled_l2[e]);
   });
@@ -82,8 +81,9 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
                                double* H, Evaluation& out) {
   const long nf = static_cast<long>(plan_->slots.size());
   const int n = plan_->num_interior(), rows = n + 1;  // the last row collects the boundary corners
-  const int threads = parallel::loop_threads(nf);
-  scale(l2, u, threads, out);
+  const parallel::Loop faces(nf);
+  const int threads = faces.chunks();
+  scale(l2, u, out);
   out.defect.resize(rows);
   corner_re_.resize(rows);
   corner_im_.resize(rows);
@@ -98,7 +98,7 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
     if (H) std::fill_n(hessian_parts_.buffer(k, H), plan_->nnz() + 1, 0.0);
   }
   parallel::PerChunk energies(threads), brokens(threads);
-  parallel::for_each(threads, nf, [&](int k, long f) {
+  faces.run([&](int k, long f) {
     Accumulator a{sum_parts_.buffer(k, out.defect.data()), re_parts_.buffer(k, corner_re_.data()),
                   im_parts_.buffer(k, corner_im_.data()), H ? hessian_parts_.buffer(k, H) : nullptr};
     accumulate_face(plan_->slots[f], out, want_energy, a);
@@ -111,7 +111,7 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
   // multiplied together, so one arctangent per vertex however many chunks (two took 5 % of a warm
   // 5k frame run serially on a busy machine).
   const Eigen::VectorXd& target = plan_->target;
-  parallel::for_each(threads, n, [&](int, long i) {
+  parallel::Loop(n).run([&](int, long i) {
     double sum = out.defect[i], re = corner_re_[i], im = corner_im_[i];
     for (int t = 1; t < threads; ++t) {
       sum += sum_parts_.buffer(t, nullptr)[i];
@@ -132,10 +132,11 @@ void EnergyEvaluator::evaluate(const Eigen::VectorXd& l2, const Eigen::VectorXd&
 
 void EnergyEvaluator::assemble_hessian(const Evaluation& at, double* H) {
   const long nf = static_cast<long>(plan_->slots.size());
-  const int threads = parallel::loop_threads(nf), size = plan_->nnz() + 1;
-  hessian_parts_.prepare(threads, size);
-  for (int k = 0; k < threads; ++k) std::fill_n(hessian_parts_.buffer(k, H), size, 0.0);
-  parallel::for_each(threads, nf, [&](int k, long f) {
+  const parallel::Loop faces(nf);
+  const int size = plan_->nnz() + 1;
+  hessian_parts_.prepare(faces.chunks(), size);
+  for (int k = 0; k < faces.chunks(); ++k) std::fill_n(hessian_parts_.buffer(k, H), size, 0.0);
+  faces.run([&](int k, long f) {
     const FaceSlots& s = plan_->slots[f];
     const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
     const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};

@@ -6,7 +6,6 @@
 // Missing the tolerance is an error; between tolerance and aim the solve only refines, and ends at
 // the first step that does not halve the residual (roundoff) instead of failing.
 // `cur` always describes u; candidates are evaluated into `trial` and swapped in when accepted.
-// follow() moves a solution along a small change of the fixed offsets by one linear solve.
 #include <algorithm>
 #include <cfloat>
 #include <cmath>
@@ -19,11 +18,6 @@
 
 namespace bdinterp {
 namespace {
-// CG iterations a chord step may take before a fresh factorisation is the better deal.
-constexpr int kMaxCgIterations = 12;
-// follow() linearises with a Hessian assembled up to this far from u (max norm): its error, about
-// this times the move (<= 1e-9), stays far below the aim.
-constexpr double kHessianDrift = 1e-6;
 
 class NewtonDriver {
  public:
@@ -46,7 +40,7 @@ class NewtonDriver {
       if (try_chord && chord_step(chord)) continue;
       if (refining) {
         // A chord step whose linear solve converged failed on roundoff: a new factor cannot help.
-        if ((try_chord && last_cg_ < kMaxCgIterations) || !refining_newton_step()) break;
+        if ((try_chord && last_cg_ < detail::kMaxCgIterations) || !refining_newton_step()) break;
         continue;
       }
       chord = newton_step();
@@ -65,7 +59,7 @@ class NewtonDriver {
     // quadratic error term; solving further costs solves without improving the accepted step.
     const double eta = std::max(0.5 * aim_, std::min(1e-3 * r, 0.1 * r * r));
     s_.rhs = -s_.cur.defect.head(n_);
-    const int cg = detail::preconditioned_cg(*s_.factor, s_.hessian.data(), s_.rhs, eta, kMaxCgIterations,
+    const int cg = detail::preconditioned_cg(*s_.factor, s_.hessian.data(), s_.rhs, eta, detail::kMaxCgIterations,
                                              s_.step, s_.pcg);
     s_.policy.chord_attempt(cg);
     last_cg_ = cg;
@@ -188,29 +182,6 @@ class NewtonDriver {
   double fraction_ = 0;  // of the step, in trial
 };
 
-// Adds to `defect` (#unknowns + 1, the last a spare row) the change of the defects when u moves by
-// `offset` (#V) to first order: the cotan Laplacian of the offsets at the scaled lengths of `at`,
-// each vertex's row added to its unknown's. Broken faces have zero cotangents, as in the Hessian.
-void add_laplacian(const FlattenPlan& plan, const detail::Evaluation& at, const Eigen::VectorXd& offset,
-                   Eigen::VectorXd& defect) {
-  const Faces& F = plan.mesh.faces();
-  for (Eigen::Index f = 0; f < F.rows(); ++f) {
-    const double o[3] = {offset[F(f, 0)], offset[F(f, 1)], offset[F(f, 2)]};
-    if (o[0] == 0 && o[1] == 0 && o[2] == 0) continue;
-    const FlattenPlan::FaceSlots& s = plan.slots[f];
-    const double l[3] = {at.scaled_len[s.edge[0]], at.scaled_len[s.edge[1]], at.scaled_len[s.edge[2]]};
-    const double l2[3] = {at.scaled_l2[s.edge[0]], at.scaled_l2[s.edge[1]], at.scaled_l2[s.edge[2]]};
-    double cot[3];
-    if (triangle_cotangents_from_lengths(l, l2, cot)) continue;
-    for (int c = 0; c < 3; ++c) {  // the edge opposite corner c, weight cot / 2
-      const int i = (c + 1) % 3, j = (c + 2) % 3;
-      const double d = 0.5 * cot[c] * (o[i] - o[j]);
-      defect[s.row[i]] += d;
-      defect[s.row[j]] -= d;
-    }
-  }
-}
-
 }  // namespace
 
 FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options) {
@@ -234,67 +205,9 @@ FlattenReport Flattener::solve(const Eigen::VectorXd& l2, Eigen::VectorXd& u, co
   if (u.size() != m.num_vertices()) u = Eigen::VectorXd::Zero(m.num_vertices());
   for (int v = 0; v < m.num_vertices(); ++v)
     if (!is_interior(v) || !std::isfinite(u[v])) u[v] = 0.0;
-  return NewtonDriver(*state_, l2, u, options).run();
-}
-
-namespace {
-// Into s.move (#V, 0 where u is fixed): offset + x, where CG solves H x = -(defects at cur, if
-// with_defects, + the cotan Laplacian of the offsets) to max |residual| <= eta + relative * max
-// |right-hand side| (in s.pcg.r), with a Hessian assembled at most kHessianDrift from cur. False if
-// CG does not get there.
-bool solve_response(Flattener::State& s, const Eigen::VectorXd& offset, bool with_defects, double eta,
-                    double relative) {
-  const FlattenPlan& p = s.plan;
-  const int n = p.num_interior();
-  if (offset.size() != p.mesh.num_vertices()) throw InvalidInput("follow: offset must have one entry per vertex");
-  if (with_defects) s.shifted = s.cur.defect;
-  else s.shifted.setZero(n + 1);
-  add_laplacian(p, s.cur, offset, s.shifted);
-  s.rhs = -s.shifted.head(n);
-  if (s.hessian_drift > kHessianDrift) {
-    s.evaluator.assemble_hessian(s.cur, s.hessian.data());
-    s.hessian_drift = 0;
-  }
-  eta += relative * s.rhs.cwiseAbs().maxCoeff();
-  detail::preconditioned_cg(*s.factor, s.hessian.data(), s.rhs, eta, kMaxCgIterations, s.step, s.pcg);
-  if (!(s.pcg.r.cwiseAbs().maxCoeff() <= eta)) return false;
-  if (s.move.size() != offset.size()) s.move.setZero(offset.size());
-  for (int v : p.moved) s.move[v] = offset[v] + s.step[p.pattern.index[v]];
-  return true;
-}
-}  // namespace
-
-bool Flattener::response(const Eigen::VectorXd& offset, double relative, Eigen::VectorXd& move) {
-  State& s = *state_;
-  if (plan_->num_interior() == 0 || !s.factor_reusable || s.cur.broken > 0) return false;
-  if (!solve_response(s, offset, false, 0.0, relative)) return false;
-  move = s.move;
-  return true;
-}
-
-bool Flattener::follow(const Eigen::VectorXd& offset, Eigen::VectorXd& u, double max_move,
-                       const FlattenOptions& options) {
-  State& s = *state_;
-  const int n = plan_->num_interior();
-  if (n == 0 || !options.reuse_factorization || !s.factor_reusable || s.cur.broken > 0) return false;
-  if (u.size() != offset.size()) throw InvalidInput("follow: u must have one entry per vertex");
-  if (!solve_response(s, offset, true, 0.5 * options.tolerance * options.refinement, 0.0)) return false;
-  const double largest = s.move.cwiseAbs().maxCoeff();
-  if (!(largest <= max_move)) return false;
-  u += s.move;
-  // exp(m_i + m_j) = 1 + m_i + m_j to double precision for moves this small.
-  const Edges& E = plan_->mesh.edges();
-  for (Eigen::Index e = 0; e < E.rows(); ++e) {
-    const double m = s.move[E(e, 0)] + s.move[E(e, 1)];
-    s.cur.scaled_l2[e] *= 1.0 + m;
-    s.cur.scaled_len[e] *= 1.0 + 0.5 * m;
-  }
-  s.cur.defect.head(n) = -s.pcg.r;  // the linear model's defects: g + L offset + H x
-  s.cur.residual = s.pcg.r.cwiseAbs().maxCoeff();
-  s.cur.has_energy = false;
-  s.hessian_at_cur = false;
-  s.hessian_drift += largest;
-  return true;
+  FlattenReport report = NewtonDriver(*state_, l2, u, options).run();
+  report.convex_solves = 1;
+  return report;
 }
 
 }  // namespace bdinterp

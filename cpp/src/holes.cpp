@@ -18,16 +18,6 @@ namespace {
 // residual limits the periods' accuracy to about that); the finite-difference step of the Jacobian.
 constexpr int kClosureIterations = 12;
 constexpr double kDipoleStep = 1e-6;
-// Free first-order steps on one sensitivity S before a solve refreshes it (S drifts; docs/HOLES.md).
-constexpr int kLinearSteps = 8;
-// The largest move |S delta|_inf of a first-order step: the angle residual it leaves is up to ~10 %
-// of the move (S's accuracy, docs/HOLES.md), and exp(move) = 1 + move in doubles.
-constexpr double kLinearMove = 1e-10;
-// The largest move of a step by Flattener::follow (error second order in it, ~1e-18); the relative
-// accuracy of the response's solves and the central differences' step for the Jacobian.
-constexpr double kFollowMove = 1e-9;
-constexpr double kResponseAccuracy = 1e-5;
-constexpr double kProbe = 1e-7;
 
 // The outer loop of `piece`: the index of the boundary loop enclosing the largest area in `base`.
 int outer_loop(const Mesh& piece, const Positions& base) {
@@ -57,9 +47,11 @@ FlattenUnknowns hole_unknowns(const Mesh& piece, const std::vector<std::vector<i
   return u;
 }
 
-// The work of one more convex solve added to `into`; the state measures are the last solve's.
+// One more convex solve added to `into`: counted, its work summed, iterations the most of any one
+// solve (as for pieces and frames), the other state measures the last solve's.
 void add_solve(FlattenReport& into, const FlattenReport& r) {
-  into.iterations += r.iterations;
+  into.convex_solves += r.convex_solves;
+  into.iterations = std::max(into.iterations, r.iterations);
   into.line_search_steps += r.line_search_steps;
   into.factorizations += r.factorizations;
   into.chord_steps += r.chord_steps;
@@ -200,64 +192,26 @@ Eigen::MatrixXd HoleSolver::dipole_jacobian(const Eigen::VectorXd& l2, Eigen::Ve
   return J;
 }
 
-void HoleSolver::dipole_offsets(const Eigen::VectorXd& delta, Eigen::VectorXd& offset) const {
-  if (offset.size() != mesh_->num_vertices()) offset.setZero(mesh_->num_vertices());
-  for (int k = 0; k < num_holes(); ++k)
-    for (size_t i = 0; i < loops_[k].size(); ++i)
-      offset[loops_[k][i]] = loop_xy_[k](i, 0) * delta[2 * k] + loop_xy_[k](i, 1) * delta[2 * k + 1];
-}
-
-void HoleSolver::move_lengths(const Eigen::VectorXd& flat, double h) {
-  // exp(h move_i) exp(h move_j) = 1 + h (move_i + move_j) to double precision for moves this small.
-  const Edges& E = mesh_->edges();
-  trial_flat_.resize(E.rows());
-  for (Eigen::Index e = 0; e < E.rows(); ++e) trial_flat_[e] = flat[e] * (1.0 + h * (move_[E(e, 0)] + move_[E(e, 1)]));
-}
-
-bool HoleSolver::linear_jacobian() {
-  const int m = 2 * num_holes();
-  sensitivity_.resize(mesh_->num_vertices(), m);
-  sensitivity_age_ = 0;
-  Eigen::MatrixXd J(m, m);
-  for (int j = 0; j < m; ++j) {  // central differences of the periods along the response
-    dipole_offsets(Eigen::VectorXd::Unit(m, j), offset_);
-    if (!flattener_.response(offset_, kResponseAccuracy, move_)) return false;
-    sensitivity_.col(j) = move_;
-    move_lengths(flattener_.flat_squared_lengths(), kProbe);
-    J.col(j) = periods(trial_flat_);
-    move_lengths(flattener_.flat_squared_lengths(), -kProbe);
-    J.col(j) = (J.col(j) - periods(trial_flat_)) / (2 * kProbe);
-  }
-  jacobian_ = J;
-  return true;
-}
-
 void HoleSolver::refresh_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Eigen::VectorXd& period,
                                   const FlattenOptions& options, FlattenReport& report) {
   if (!options.reuse_factorization || !linear_jacobian()) jacobian_ = dipole_jacobian(l2, u, period, options, report);
 }
 
-bool HoleSolver::follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options) {
-  dipole_offsets(delta, offset_);
-  if (!flattener_.follow(offset_, u, kFollowMove, options)) return false;
-  dipole_ += delta;
-  return true;
-}
-
-bool HoleSolver::linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
-                             Eigen::VectorXd& next) {
-  // u moves by S delta, free: right up to the step squared and S's error (a few %) times the move,
-  // so only for small moves, and kept only if it closes the periods.
-  if (sensitivity_age_ >= kLinearSteps) return false;
-  move_.noalias() = sensitivity_ * delta;
-  if (!(move_.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
-  move_lengths(flat, 1.0);
-  next = periods(trial_flat_);
-  if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
-  ++sensitivity_age_;
-  u += move_;
-  dipole_ += delta;
-  flat_.swap(trial_flat_);
+bool HoleSolver::try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim,
+                          Eigen::VectorXd& u, Eigen::VectorXd& next, const FlattenOptions& options,
+                          FlattenReport& report) {
+  switch (step) {
+    case PeriodStep::Linear:
+      return linear_step(flattener_.flat_squared_lengths(), delta, aim, u, next);
+    case PeriodStep::Follow:
+      if (!follow(delta, u, options)) return false;
+      break;
+    case PeriodStep::Convex:
+      set_dipoles(dipole_ + delta, u);
+      convex_solve(l2, u, options, report);
+      break;
+  }
+  next = solved_periods();
   return true;
 }
 
@@ -265,35 +219,34 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
                                                  const FlattenOptions& options, FlattenReport& report) {
   const int m = 2 * num_holes();
   Eigen::VectorXd period = solved_periods(), next;
-  // The Jacobian and the sensitivity du/d dipoles are kept across frames (they change slowly along
-  // a slider) and updated by Broyden's rule; recomputed when missing or when a step fails to halve
-  // the periods. A step is taken by the sensitivity if that closes the periods, else by follow()
-  // when small, else by a convex solve. Closed to tolerance * refinement like the flattening; the
-  // loop ends at the accuracy the periods allow (a fresh Jacobian's step that does not halve them).
+  // Newton on the dipoles, the Jacobian and the sensitivity du/d dipoles kept across frames (they
+  // change slowly along a slider). Each Newton step is taken by the first of kPeriodSteps that
+  // applies, and judged by one rule: accepted if it halves the largest period or closes them all
+  // (below tolerance * refinement, like the flattening). An accepted step updates the Jacobian and
+  // the sensitivity by Broyden's rule; a rejected one is kept but refreshes them, and ends the loop
+  // if they were fresh (the periods' accuracy, about the flattening's tolerance, is reached).
   bool fresh = false;
   const double aim = options.tolerance * options.refinement;
   for (int it = 0; it < kClosureIterations && period.cwiseAbs().maxCoeff() > aim; ++it) {
     if (jacobian_.rows() != m) refresh_jacobian(l2, u, period, options, report), fresh = true;
     const Eigen::VectorXd delta = -jacobian_.fullPivLu().solve(period);
-    if (linear_step(flattener_.flat_squared_lengths(), delta, aim, u, next)) {
-      jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
-      return flat_;
-    }
     before_ = u;
-    if (!follow(delta, u, options)) {
-      set_dipoles(dipole_ + delta, u);
-      convex_solve(l2, u, options, report);
-    }
-    next = solved_periods();
-    const bool halved = next.cwiseAbs().maxCoeff() <= 0.5 * period.cwiseAbs().maxCoeff();
-    if (!halved && fresh) break;  // the accuracy of the periods (~ the flattening's tolerance)
-    if (halved) {
+    PeriodStep step = PeriodStep::Convex;
+    for (PeriodStep s : kPeriodSteps)
+      if (try_step(s, l2, delta, aim, u, next, options, report)) {
+        step = s;
+        break;
+      }
+    if (next.cwiseAbs().maxCoeff() <= std::max(aim, 0.5 * period.cwiseAbs().maxCoeff())) {
       jacobian_ += (next - period - jacobian_ * delta) * delta.transpose() / delta.squaredNorm();
+      if (step == PeriodStep::Linear) return flat_;  // u is S's step, not the Flattener's solution
       move_.noalias() = sensitivity_ * delta;
       move_ = u - before_ - move_;
       sensitivity_.noalias() += move_ * (delta.transpose() / delta.squaredNorm());
       sensitivity_age_ = 0;
       fresh = false;
+    } else if (fresh) {
+      break;
     } else {
       refresh_jacobian(l2, u, next, options, report);
       fresh = true;

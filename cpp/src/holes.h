@@ -12,7 +12,7 @@
 // c_k + a_k cos s + b_k sin s (s: the arc-length angle along the loop in the blended metric). This
 // class is that outer step: for fixed dipoles (a, b) the Flattener solves for the c_k (the dipole
 // terms are its fixed offsets), and Newton on the dipoles (the Jacobian from the Flattener's linear
-// response, Broyden updates; small steps to first order, large ones by convex solves) drives every
+// response, Broyden updates; each step by the first of kPeriodSteps that applies) drives every
 // period to zero. At an input's own metric the
 // periods vanish with zero dipoles: no extra solve, inputs exact. The layout is the disks' Layout
 // with the holes' vertices free (its own uniform Laplacian); the remaining period is reported per
@@ -30,6 +30,31 @@
 #include "mesh.h"
 
 namespace bdinterp {
+
+// The ways a Newton step on the dipoles is taken, tried in this order (HoleSolver::close_periods):
+//   Linear: u += S delta with the sensitivity S = du/d dipoles, free (no solve); applies while S is
+//           young, the move tiny and the periods it leaves closed (its u is not the Flattener's
+//           solution, so no step can follow it);
+//   Follow: the Flattener's solution moved by one linear solve (follow_offsets), for small moves;
+//   Convex: the dipoles set and a convex solve from u (always applies).
+enum class PeriodStep { Linear, Follow, Convex };
+inline constexpr PeriodStep kPeriodSteps[] = {PeriodStep::Linear, PeriodStep::Follow, PeriodStep::Convex};
+
+// After f.solve(), u being its solution: the solution for fixed offsets changed by `offset` (#V,
+// zero where a vertex has no unknown), to first order and without evaluating the angles again:
+// u += offset + the unknowns' response, from one linear solve (CG with the Hessian at the solution,
+// preconditioned by the reusable factorisation) whose right-hand side is the defects plus the
+// cotan Laplacian of the offsets. What it leaves in the defects is that solve's residual (<= half
+// of tolerance * refinement) plus second order in the move, which must be <= max_move in every u.
+// Returns false and changes nothing without a reusable factorisation, with broken faces, if the
+// solve does not converge or the move is larger. f.flat_squared_lengths() follows u.
+bool follow_offsets(Flattener& f, const Eigen::VectorXd& offset, Eigen::VectorXd& u, double max_move,
+                    const FlattenOptions& options);
+// d u / d offsets at the solution of f's last solve() (and follow_offsets), applied to `offset`
+// (#V, zero where a vertex has no unknown): move (#V) = offset + the unknowns' first-order
+// response, its linear solve to max |residual| <= relative * max |right-hand side|. Changes no
+// state. Returns false without a reusable factorisation, with broken faces or if the solve stalls.
+bool offset_response(Flattener& f, const Eigen::VectorXd& offset, double relative, Eigen::VectorXd& move);
 
 struct HolesReport {
   FlattenReport flatten;             // iterations, residual (max over vertices and loops), broken
@@ -58,8 +83,8 @@ class HoleSolver {
   // ignored; along inner loop k its least-squares fit c_k + a_k cos s + b_k sin s is the start; all
   // zero: a cold start), on output the solution (0 on the outer loop, c_k plus the dipole terms
   // along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if the tolerance
-  // is not reached. The report's work counts (iterations, factorizations, ...) are summed over the
-  // convex solves of the closure. The flat squared lengths stay in flat_squared_lengths().
+  // is not reached. The report counts the convex solves (the first and the closure's), sums their
+  // work (factorizations, ...) and gives the most Newton steps of any one as iterations. The flat squared lengths stay in flat_squared_lengths().
   FlattenReport flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
   // #E flat squared lengths of the last flatten() (valid until the next call).
   const Eigen::VectorXd& flat_squared_lengths() const { return *flat_result_; }
@@ -114,7 +139,7 @@ class HoleSolver {
   // finite differences.
   void refresh_jacobian(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const Eigen::VectorXd& period,
                         const FlattenOptions& options, FlattenReport& report);
-  // The dipoles' step delta from the solved u by Flattener::follow (one linear solve, no convex
+  // The dipoles' step delta from the solved u by follow_offsets (one linear solve, no convex
   // solve); false, nothing changed, if the Flattener cannot take it (e.g. a move too large).
   bool follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options);
   // The dipoles' step delta taken to first order from u, whose flat squared lengths are flat
@@ -122,6 +147,10 @@ class HoleSolver {
   // lengths in flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
   bool linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
                    Eigen::VectorXd& next);
+  // The Newton step delta on the dipoles by `step`; false, nothing changed, if it does not apply.
+  // next: the periods after it.
+  bool try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim,
+                Eigen::VectorXd& u, Eigen::VectorXd& next, const FlattenOptions& options, FlattenReport& report);
   // Newton on the dipoles from the solved u until the periods are closed (holes.cpp); returns the
   // flat squared lengths of the final u (the Flattener's or flat_).
   const Eigen::VectorXd& close_periods(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options,

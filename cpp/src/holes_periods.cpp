@@ -14,15 +14,14 @@ namespace bdinterp {
 
 Eigen::VectorXd HoleSolver::periods(const Eigen::VectorXd& l2) const {
   Eigen::VectorXd out(2 * num_holes());
-  // One hole a chunk (each walk is serial), sized by the corners walked.
+  // A hole an iteration (each walk is serial), costing the corners it walks.
   long corners = 0;
   for (const auto& loop : loop_corners_) corners += static_cast<long>(loop.size());
-  const int chunks = std::min(num_holes(), parallel::loop_threads(corners));
-  parallel::for_each(chunks, num_holes(), [&](int, long k) {
+  parallel::Loop(num_holes(), static_cast<double>(corners) / std::max(num_holes(), 1)).run([&](int, long k) {
     const std::complex<double> p = hole_period(static_cast<int>(k), l2);
     out[2 * k] = p.real();
     out[2 * k + 1] = p.imag();
-  }, corners);
+  });
   return out;
 }
 

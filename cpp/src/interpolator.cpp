@@ -6,6 +6,8 @@
 #include <cmath>
 #include <exception>
 #include <sstream>
+#include <system_error>
+#include <thread>
 
 #include "orientation.h"
 #include "parallel.h"
@@ -29,6 +31,7 @@ void merge(FrameStats& into, const FrameStats& s) {
   into.pieces = s.pieces;  // these are the same for every frame of an Interpolator
   into.fold_faces = s.fold_faces, into.fold_free_vertices = s.fold_free_vertices, into.joints = s.joints;
   into.converged = into.converged && s.converged;
+  into.threads = std::max(into.threads, s.threads);
   if (into.warnings.empty()) into.warnings = s.warnings;
   into.hole_closure.resize(std::max(into.hole_closure.size(), s.hole_closure.size()), 0.0);
   for (size_t k = 0; k < s.hole_closure.size(); ++k)
@@ -96,17 +99,27 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
   return std::make_unique<const Joints>(unit, options.base, parts, anchored, given);
 }
 
-// frames()'s workers: `threads` (0: the usable cores), at most one per 4 frames, at least 1.
+// frames()'s workers: `threads` (0: the usable cores), at most one per frame, at least 1.
 int frame_workers(int threads, size_t frames) {
   const int workers = threads > 0 ? threads : parallel::usable_cores();
-  return std::max(1, std::min<int>(workers, static_cast<int>(frames / 4)));
+  return static_cast<int>(std::max<size_t>(1, std::min<size_t>(workers, frames)));
 }
 
-// The one call frames() makes to the project's pool: body(k) for every chunk k in [0, chunks).
-// A chunk is whole frames (milliseconds each): the pool's whole-task hint (parallel.h).
+// body(k) for every worker k in [0, workers), each on a thread of its own (the caller runs k = 0):
+// a worker's frames take milliseconds each, against tens of microseconds to start a thread, and
+// every worker asked for runs (the pool's loops are the frames' insides). Where no thread can be
+// started, the caller runs the rest.
 template <class Body>
-void run_frame_chunks(int chunks, Body&& body) {
-  parallel::run(chunks, std::forward<Body>(body), parallel::kWholeTasks);
+void run_workers(int workers, Body&& body) {
+  std::vector<std::thread> threads;
+  int started = 1;
+  try {
+    for (; started < workers; ++started) threads.emplace_back([&body, started] { body(started); });
+  } catch (const std::system_error&) {
+    for (int k = started; k < workers; ++k) body(k);
+  }
+  body(0);
+  for (std::thread& t : threads) t.join();
 }
 
 }  // namespace
@@ -182,6 +195,7 @@ void Interpolator::blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> ou
   if (out.rows() != num_vertices()) throw InvalidInput("output has the wrong number of rows");
   const parallel::ThreadLimit limit(options_.threads);
   FrameStats st = solve_frame(w, out, 0);
+  st.threads = limit.threads_ran();
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
 }
@@ -264,7 +278,7 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
   prepare_workers(workers);
   std::vector<FrameStats> stats(workers);
   std::vector<std::exception_ptr> errors(workers);
-  run_frame_chunks(workers, [&](int k) {
+  run_workers(workers, [&](int k) {
     // With several workers, the loops inside a frame stay on their thread (and OpenBLAS on one thread).
     const parallel::ThreadLimit limit(workers > 1 ? 1 : options_.threads);
     const size_t chunk = workers - 1 - k;
@@ -272,13 +286,15 @@ void Interpolator::frames(const std::vector<double>& ts, Eigen::Ref<Positions> o
     try {
       for (size_t j = begin; j < end; ++j)
         merge(stats[k], solve_frame(Eigen::Vector2d(1.0 - ts[j], ts[j]), out.middleRows(j * n, n), k));
+      stats[k].threads = limit.threads_ran();
     } catch (...) {
-      errors[k] = std::current_exception();  // the pool's bodies must not throw
+      errors[k] = std::current_exception();  // rethrown on the calling thread
     }
   });
   for (const auto& e : errors) if (e) std::rethrow_exception(e);
   FrameStats st = stats[0];
   for (int k = 1; k < workers; ++k) merge(st, stats[k]);
+  if (workers > 1) st.threads = workers;  // one thread each (their loops stay on it)
   st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   stats_ = st;
 }

@@ -165,9 +165,9 @@ void Layout::embed(const Eigen::VectorXd& l2, SparseCholesky* W, double shift, P
   if (n > 0) solve_free(*W, shift, X);
   if (!flatness) return;
   const Edges& E = m.edges();
-  const int threads = parallel::loop_threads(E.rows());
-  parallel::PerChunk worst(threads);
-  parallel::for_each(threads, E.rows(), [&](int k, long e) {
+  const parallel::Loop edges(E.rows());
+  parallel::PerChunk worst(edges.chunks());
+  edges.run([&](int k, long e) {
     const double dx = X(E(e, 1), 0) - X(E(e, 0), 0), dy = X(E(e, 1), 1) - X(E(e, 0), 1);
     worst.at(k) = std::max(worst.at(k), std::abs((dx * dx + dy * dy) / l2[e] - 1.0));
   });
@@ -178,10 +178,9 @@ void Layout::place_faces(const Eigen::VectorXd& l2) {
   const Faces& FE = plan_->mesh.face_edges();
   const int nf = static_cast<int>(FE.rows());
   Scratch& s = *scratch_;
-  const int threads = parallel::loop_threads(nf);
   // Each face in its own frame: corner 0 at the origin, corner 1 at (l01, 0), corner 2 at (cx, cy)
   // with cx = (l01^2 + l02^2 - l12^2) / (2 l01), cy = 4 area / (2 l01) (no trigonometry).
-  parallel::for_each(threads, nf, [&](int, long f) {
+  parallel::Loop(nf).run([&](int, long f) {
     const int* fe = &FE(f, 0);
     const double fl2[3] = {l2[fe[0]], l2[fe[1]], l2[fe[2]]};
     const double l[3] = {std::sqrt(fl2[0]), std::sqrt(fl2[1]), std::sqrt(fl2[2])};
@@ -206,8 +205,7 @@ void Layout::place_faces(const Eigen::VectorXd& l2) {
   // rot_g / rot_f comes from the local frames alone, in parallel, into rot_g's row; the walk is then
   // one complex product a face.
   const std::vector<Mesh::DualStep>& tree = plan_->tree;
-  parallel::for_each(parallel::loop_threads(static_cast<long>(tree.size())), static_cast<long>(tree.size()),
-                     [&](int, long k) {
+  parallel::Loop(static_cast<long>(tree.size())).run([&](int, long k) {
     const Mesh::DualStep& st = tree[k];
     double lf[3][2], lg[3][2];
     local_half_edges(&s.local(st.parent, 0), lf);
@@ -274,11 +272,11 @@ void Layout::assemble_rhs(const SparseCholesky& W, double shift, const Positions
       s.row_sum[rows[p]] += M[p];
     }
   }
-  const int threads = parallel::loop_threads(nf);
+  const parallel::Loop faces(nf);
   const bool one_sided = plan_->one_sided;  // a disk's free edges all have two faces
-  s.rhs_parts.prepare(threads, 2 * n);
-  for (int k = 0; k < threads; ++k) std::fill_n(s.rhs_parts.buffer(k, s.rhs.data()), 2 * n, 0.0);
-  parallel::for_each(threads, nf, [&](int k, long f) {
+  s.rhs_parts.prepare(faces.chunks(), 2 * n);
+  for (int k = 0; k < faces.chunks(); ++k) std::fill_n(s.rhs_parts.buffer(k, s.rhs.data()), 2 * n, 0.0);
+  faces.run([&](int k, long f) {
     double* b = s.rhs_parts.buffer(k, s.rhs.data());
     double local[3][2];
     local_half_edges(&s.local(f, 0), local);

@@ -29,8 +29,9 @@ inline void pause_cpu() {
 #endif
 }
 
-// Below this many iterations a loop is not split: a fork/join with a spinning worker costs ~1 us.
-constexpr long kMinItems = 500;
+// Below this much work (simple iterations) a loop is not split: a fork/join with a spinning
+// worker costs ~1 us.
+constexpr double kMinItems = 500;
 // An idle worker's spin between frames or on a busy machine: the gap between one evaluation's
 // loops. Longer, it takes the core from the frame's own thread and from other programs.
 constexpr auto kShortSpin = std::chrono::microseconds(20);
@@ -48,6 +49,7 @@ int64_t ticks_of(Duration d) {
 std::atomic<int> computing{0};  // ThreadLimits alive that allow more than one thread: frames running
 std::atomic<int> awake{0};      // pool workers not asleep (spinning or running chunks)
 thread_local int limit = 0;        // 0: none
+thread_local int most_ran = 1;     // the most threads a loop started on this thread ran on
 thread_local bool inside = false;  // running a chunk or a run(): nested runs are serial
 
 // The pool does not survive fork(): a child (e.g. of Python's multiprocessing) runs serially.
@@ -57,14 +59,12 @@ void note_fork() { forked.store(true); }
 const bool fork_handler = pthread_atfork(nullptr, nullptr, note_fork) == 0;
 #endif  // Windows has no fork()
 
-// Whether a loop's chunks go to the pool or run on its calling thread (the same chunks either way,
-// so the same bits): on the pool unless the loop is small (known size under kMinItems) or the
-// machine is busy (detail::LoadMean over samples of detail::other_threads).
+// Whether a split loop's chunks go to the pool or run on its calling thread (the same chunks
+// either way, so the same bits): on the pool unless the machine is busy (detail::LoadMean over
+// samples of detail::other_threads).
 class LoopPolicy {
  public:
-  bool use_pool(long items) {
-    if (items == kWholeTasks) return true;
-    if (items > 0 && items < kMinItems) return false;
+  bool use_pool() {
     sample();
     return !busy_.load(std::memory_order_relaxed);
   }
@@ -115,15 +115,16 @@ class Pool {
     return *pool;
   }
 
-  // Runs the job on the caller and the workers; false if another thread is using the pool (the
-  // caller then runs the chunks itself).
-  bool run(int chunks, detail::ChunkFn fn, void* context) {
+  // Runs the job on the caller and the workers; returns the threads that ran chunks, 0 if another
+  // thread is using the pool (the caller then runs the chunks itself).
+  int run(int chunks, detail::ChunkFn fn, void* context) {
     std::unique_lock<std::mutex> job(dispatch_, std::try_to_lock);
-    if (!job.owns_lock()) return false;
+    if (!job.owns_lock()) return 0;
     grow(std::min(chunks, usable_cores()) - 1);
     fn_ = fn;
     context_ = context;
     done_.store(0);
+    ran_.store(0);
     const uint64_t gen = (state_.load() >> 32) + 1;
     state_.store(gen << 32 | static_cast<uint64_t>(chunks) << 16);
     if (sleepers_.load() > 0) {
@@ -137,18 +138,19 @@ class Pool {
       finished_.wait(lock, [&] { return done_.load() == chunks; });
       caller_waiting_ = false;
     }
-    return true;
+    return ran_.load();
   }
 
  private:
   // Claims and runs chunks of job `gen` until none is left.
   void work(uint32_t gen) {
     uint64_t s = state_.load(std::memory_order_acquire);
-    for (;;) {
+    for (bool claimed = false;;) {
       if (static_cast<uint32_t>(s >> 32) != gen) return;
       const int chunks = static_cast<int>((s >> 16) & 0xffff), next = static_cast<int>(s & 0xffff);
       if (next >= chunks) return;
       if (!state_.compare_exchange_weak(s, s + 1, std::memory_order_acq_rel)) continue;
+      if (!claimed) claimed = true, ran_.fetch_add(1, std::memory_order_relaxed);
       fn_(context_, next);
       if (done_.fetch_add(1, std::memory_order_acq_rel) + 1 == chunks) {
         std::lock_guard<std::mutex> lock(m_);
@@ -204,7 +206,7 @@ class Pool {
   std::mutex m_;         // for the sleeping side of the waits
   std::condition_variable wake_, finished_;
   std::atomic<uint64_t> state_{0};
-  std::atomic<int> done_{0}, sleepers_{0};
+  std::atomic<int> done_{0}, sleepers_{0}, ran_{0};  // ran_: threads that claimed chunks of the job
   bool caller_waiting_ = false;  // guarded by m_
   detail::ChunkFn fn_ = nullptr;
   void* context_ = nullptr;
@@ -215,11 +217,13 @@ class Pool {
 
 bool machine_busy() { return policy.busy(); }
 
-int loop_threads(long items) {
-  if (items < kMinItems || forked.load(std::memory_order_relaxed)) return 1;
+int detail::chunks_for(double work) {
+  if (!(work >= kMinItems) || forked.load(std::memory_order_relaxed)) return 1;
   const int all = std::min(usable_cores(), 0xffff);
   return limit > 0 && limit < all ? limit : all;
 }
+
+void detail::note_threads(int threads) { most_ran = std::max(most_ran, threads); }
 
 std::pair<long, long> share(long n, int chunk, int chunks) {
   const long q = n / chunks, r = n % chunks;
@@ -227,24 +231,29 @@ std::pair<long, long> share(long n, int chunk, int chunks) {
   return {first, first + q + (chunk < r ? 1 : 0)};
 }
 
-void detail::run(int chunks, ChunkFn fn, void* context, long items) {
-  if (!inside && !forked.load(std::memory_order_relaxed) && policy.use_pool(items)) {
+int detail::run(int chunks, ChunkFn fn, void* context) {
+  if (!inside && !forked.load(std::memory_order_relaxed) && policy.use_pool()) {
     inside = true;
-    const bool ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
+    const int ran = Pool::instance().run(std::min(chunks, 0xffff), fn, context);
     inside = false;
-    if (ran) return;
+    if (ran > 0) return ran;
   }
   for (int k = 0; k < chunks; ++k) fn(context, k);
+  return 1;
 }
 
-ThreadLimit::ThreadLimit(int threads) : saved_(limit), counted_(threads != 1) {
+ThreadLimit::ThreadLimit(int threads) : saved_(limit), saved_ran_(most_ran), counted_(threads != 1) {
   limit = threads;
+  most_ran = 1;
   if (counted_) computing.fetch_add(1, std::memory_order_relaxed);
   saved_dynamic_ = detail::swap_omp_dynamic(1);
 }
 
+int ThreadLimit::threads_ran() const { return most_ran; }
+
 ThreadLimit::~ThreadLimit() {
   limit = saved_;
+  most_ran = std::max(saved_ran_, most_ran);
   if (counted_) computing.fetch_sub(1, std::memory_order_relaxed);
   if (saved_dynamic_ >= 0) detail::swap_omp_dynamic(saved_dynamic_);
 }

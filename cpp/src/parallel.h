@@ -1,25 +1,23 @@
 // Internal: intra-frame parallelism. The face and edge loops of one frame are split into a few
 // chunks run by a small pool of its own (std::thread; idle workers spin through a frame while the
-// machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), which already
-// solves one frame per core. The triangular solves split the same way (src/detail/tree_solve.h).
-// A LoopPolicy (parallel.cpp) runs a loop serially on its calling thread, with the same chunks,
-// when it is small or while other programs take the cores (machine_busy).
+// machine is idle, else 20 us, then sleep), except inside Interpolator::frames(), whose workers
+// each solve frames on a thread of their own. The triangular solves split the same way
+// (src/detail/tree_solve.h).
+// A Loop is split only when it is worth a fork/join; the LoopPolicy (parallel.cpp) runs a split
+// loop serially on its calling thread, with the same chunks, while other programs take the cores
+// (machine_busy).
 // Why not OpenMP: beside another busy program libgomp's fixed split made every loop wait for the
 // thread that shared its core (docs/BENCHMARKS.md, "Busy machine"); here the caller takes chunks
 // too, so a frame is never slower than the serial loop by more than the wake-up.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace bdinterp::parallel {
-
-// Chunks to split a loop of `items` independent iterations into (started on the calling thread):
-// 1 for small loops (a fork/join costs a few microseconds), else the number of cores up to this
-// thread's limit. 1 in a child process after fork().
-int loop_threads(long items);
 
 // The cores this process may use: the online CPUs, limited by its affinity mask (taskset, a farm's
 // cpuset) and by its cgroup's CPU quota (cpu.max: docker --cpus, a Kubernetes limit), which
@@ -39,9 +37,14 @@ std::pair<long, long> share(long n, int chunk, int chunks);
 
 namespace detail {
 using ChunkFn = void (*)(void* context, int chunk);
-// parallel::run without the template: fn(context, chunk) for every chunk (items: the loop's size,
-// 0 if unknown). The entry point for code that builds its own chunk functions.
-void run(int chunks, ChunkFn fn, void* context, long items);
+// fn(context, chunk) for every chunk, on the pool unless the machine is busy; returns the threads
+// that ran chunks (1 when the caller ran them all).
+int run(int chunks, ChunkFn fn, void* context);
+// The chunks of a loop of `work` simple iterations: 1 under 500 (a fork/join costs about a
+// microsecond), else the usable cores up to this thread's ThreadLimit; 1 in a child after fork().
+int chunks_for(double work);
+// Records that a loop started on this thread ran on `threads` threads (ThreadLimit::threads_ran).
+void note_threads(int threads);
 // Threads of other programs that want a core now, or -1 if unknown. Linux: the kernel's runnable
 // count (/proc/loadavg) minus `own_running` (this process's running threads: the caller and the
 // pool's awake workers), at least 0. Windows and macOS have no such count: the cores that other
@@ -91,38 +94,39 @@ class LoadMean {
 };
 }  // namespace detail
 
-// Calls body(chunk) for chunk = 0 .. chunks-1, on the calling thread and the pool's workers, and
-// returns when all have returned. Chunks may run in any order and on any thread; a body must only
-// depend on its chunk index (results are then bit-identical for a given number of chunks). Bodies
-// must not throw. Nested or concurrent calls run their chunks serially on the calling thread.
-// items: the loop's size (0: unknown); loops of a known size under 500 run on the calling thread.
-// kWholeTasks: chunks that are whole tasks (frames of a sequence, milliseconds each) go to the
-// workers whatever the busy verdict: waking a worker costs
-// microseconds against milliseconds of work, and a worker that is not scheduled leaves its chunk
-// to the caller (a sequence on a busy machine: 0.66 x one thread with 3 busy loops, against 1.03 serial).
-inline constexpr long kWholeTasks = -1;
-template <class Body>
-void run(int chunks, Body&& body, long items = 0) {
-  if (chunks <= 1) {
-    body(0);
-    return;
+// A loop over [0, n), in the manner of libigl's parallel_for: the loop's size is given once, and
+// `cost` is one iteration's work in simple iterations (a face's terms: 1; a hole walked: its
+// corners), which decides whether the loop is split (chunks_for(n cost)). The chunks are
+// contiguous shares (share()) run on the calling thread and the pool's workers; a body(chunk, i)
+// must only depend on its chunk and i (results are then bit-identical for a given chunk count,
+// whichever thread ran what) and must not throw. Nested or concurrent loops run their chunks
+// serially on the calling thread.
+class Loop {
+ public:
+  explicit Loop(long n, double cost = 1.0)
+      : n_(n), chunks_(static_cast<int>(std::min<double>(std::max(n, 1L), detail::chunks_for(n * cost)))) {}
+  // The chunks: 1 for a loop not worth splitting, else one per usable core, at most n. Per-chunk
+  // buffers (Partials, PerChunk) are sized by it.
+  int chunks() const { return chunks_; }
+  // body(chunk, i) for every i in [0, n); returns when all have returned.
+  template <class Body>
+  void run(Body&& body) const {
+    auto chunk = [&](int k) {
+      const auto [first, last] = share(n_, k, chunks_);
+      for (long i = first; i < last; ++i) body(k, i);
+    };
+    if (chunks_ <= 1) {
+      chunk(0);
+      return;
+    }
+    using Chunk = decltype(chunk);
+    detail::note_threads(detail::run(chunks_, [](void* c, int k) { (*static_cast<Chunk*>(c))(k); }, &chunk));
   }
-  detail::run(chunks, [](void* c, int k) { (*static_cast<Body*>(c))(k); }, &body, items);
-}
 
-// for (i in [0, n)) body(chunk, i), split into `chunks` contiguous shares (see share()). items: the
-// loop's size for run(), n unless given (a loop over a few big iterations, e.g. one per hole, passes
-// the work inside them).
-template <class Body>
-void for_each(int chunks, long n, Body&& body, long items = -1) {
-  run(
-      chunks,
-      [&](int k) {
-        const auto [first, last] = share(n, k, chunks);
-        for (long i = first; i < last; ++i) body(k, i);
-      },
-      items < 0 ? n : items);
-}
+ private:
+  long n_;
+  int chunks_;
+};
 
 // While alive (and `active`), OpenBLAS (which CHOLMOD's supernodal factorisations call) runs on one
 // thread: the pool already splits a frame's loops, and OpenBLAS's idle threads yield-spin after
@@ -151,11 +155,14 @@ class ThreadLimit {
  public:
   explicit ThreadLimit(int threads);
   ~ThreadLimit();
+  // The most threads one loop started on this thread ran on while this object lives (1: serial).
+  int threads_ran() const;
   ThreadLimit(const ThreadLimit&) = delete;
   ThreadLimit& operator=(const ThreadLimit&) = delete;
 
  private:
   int saved_;
+  int saved_ran_;           // the enclosing ThreadLimit's threads_ran, merged back at the end
   bool counted_;            // counted among the frames being computed (threads != 1)
   int saved_dynamic_ = -1;  // the thread's omp_get_dynamic() before (-1: no OpenMP runtime)
   SingleThreadedBlas blas_;

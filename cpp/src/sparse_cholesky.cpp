@@ -203,28 +203,23 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
   const int* col_ptr = column_pointers();
   const int* rows = row_indices();
   const int n = size();
-  const int threads = parallel::loop_threads(col_ptr[n] / 4);
+  // A column an iteration, costing a quarter of its entries (a multiply-add each).
+  const parallel::Loop columns(n, col_ptr[n] / (4.0 * std::max(n, 1)));
   parallel::Partials& parts = impl_->product_parts;
-  parts.prepare(threads, n);
-  parallel::run(
-      threads,
-      [&](int k) {
-        double* out = parts.buffer(k, y);
-        std::fill_n(out, n, 0.0);
-        const auto [first, last] = parallel::share(n, k, threads);
-        for (int j = first; j < last; ++j) {
-          const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
-          double acc = values[p0] * x[j];  // diagonal first in every column
-          const double xj = x[j];
-          for (int p = p0 + 1; p < p1; ++p) {
-            const int i = rows[p];
-            acc += values[p] * x[i];
-            out[i] += values[p] * xj;
-          }
-          out[j] += acc;
-        }
-      },
-      n);
+  parts.prepare(columns.chunks(), n);
+  for (int k = 0; k < columns.chunks(); ++k) std::fill_n(parts.buffer(k, y), n, 0.0);
+  columns.run([&](int k, long j) {
+    double* out = parts.buffer(k, y);
+    const int p0 = col_ptr[j], p1 = col_ptr[j + 1];
+    double acc = values[p0] * x[j];  // diagonal first in every column
+    const double xj = x[j];
+    for (int p = p0 + 1; p < p1; ++p) {
+      const int i = rows[p];
+      acc += values[p] * x[i];
+      out[i] += values[p] * xj;
+    }
+    out[j] += acc;
+  });
   parts.add_into(y);
 }
 
@@ -260,7 +255,7 @@ void SparseCholesky::solve(const double* b, double* x, int ncols) {
   if (!m.factored) throw SolverError("SparseCholesky::solve called without a valid factorisation");
   const int n = size();
   // Split over the cores when a solve is worth two fork/joins (nnz(L) >= 8000: from ~1k rows).
-  const int chunks = parallel::loop_threads(static_cast<long>(solve_flops() / 64));
+  const int chunks = parallel::Loop(n, solve_flops() / (64.0 * std::max(n, 1))).chunks();
   if (detail::TreeSolve* plan = ncols <= detail::TreeSolve::kMaxColumns ? tree_solve(chunks) : nullptr) {
     plan->solve(factor_view(*m.L), b, x, ncols);
     return;

@@ -241,15 +241,14 @@ void TreeSolve::solve_k(const FactorView& L, const double* b, double* x, int nc)
   double* y = y_.data();
   for (std::vector<double>& buf : buf_) buf.assign(static_cast<size_t>(ntop_) * k, 0.0);
   for (const Range& r : top_runs_) gather(L, b, r, k, y);
-  parallel::run(
-      nb,
-      [&](int bin) {
-        for (const Range& r : bins_[bin]) {
-          gather(L, b, r, k, y);
-          forward<K>(L, r, k, y, buf_[bin].data());
-        }
-      },
-      n_);
+  // A bin an iteration, costing its share of the rows.
+  const parallel::Loop bins(nb, static_cast<double>(n_) / nb);
+  bins.run([&](int, long bin) {
+    for (const Range& r : bins_[bin]) {
+      gather(L, b, r, k, y);
+      forward<K>(L, r, k, y, buf_[bin].data());
+    }
+  });
   for (int bin = 0; bin < nb; ++bin) {  // the bins' updates of the top, in bin order
     for (int t = 0; t < ntop_; ++t) {
       for (int c = 0; c < k; ++c) y[top_[t] * k + c] += buf_[bin][c * ntop_ + t];
@@ -258,15 +257,12 @@ void TreeSolve::solve_k(const FactorView& L, const double* b, double* x, int nc)
   for (const Range& r : top_runs_) forward<K>(L, r, k, y, nullptr);
   for (auto r = top_runs_.rbegin(); r != top_runs_.rend(); ++r) backward<K>(L, *r, k, y);
   for (const Range& r : top_runs_) scatter(L, y, r, k, x);  // b is read in full: x may alias it
-  parallel::run(
-      nb,
-      [&](int bin) {
-        for (auto r = bins_[bin].rbegin(); r != bins_[bin].rend(); ++r) {
-          backward<K>(L, *r, k, y);
-          scatter(L, y, *r, k, x);
-        }
-      },
-      n_);
+  bins.run([&](int, long bin) {
+    for (auto r = bins_[bin].rbegin(); r != bins_[bin].rend(); ++r) {
+      backward<K>(L, *r, k, y);
+      scatter(L, y, *r, k, x);
+    }
+  });
 }
 
 void TreeSolve::solve(const FactorView& L, const double* b, double* x, int ncols) {

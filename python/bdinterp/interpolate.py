@@ -201,12 +201,14 @@ class Interpolator:
     @property
     def stats(self):
         """FrameStats of the last at()/blend() (or of all frames of the last frames()): attributes
-        (and keys) iterations, residual (max |2 pi - angle sum|), broken_triangles,
-        max_broken_triangles, line_search_steps, flatness, pieces, factorizations, chord_steps,
-        seconds, converged (the self-check passed), warnings (why not), hole_closure (per hole:
-        the translation period of the flat metric around it relative to the hole's perimeter),
-        fold_faces and fold_free_vertices (the size of the fold region and of its filled-in
-        vertices, docs/FOLDS.md; 0 when no input folds)."""
+        (and keys) iterations (the most Newton steps of one convex solve), convex_solves (one
+        per piece, more where holes' periods are closed), residual (max |2 pi - angle sum|),
+        broken_triangles, max_broken_triangles, line_search_steps, flatness, pieces,
+        factorizations, chord_steps, seconds, converged (the self-check passed), warnings (why
+        not), hole_closure (per hole: the translation period of the flat metric around it relative
+        to the hole's perimeter), fold_faces and fold_free_vertices (the size of the fold region
+        and of its filled-in vertices, docs/FOLDS.md; 0 when no input folds), joints, threads (the
+        threads that ran: frames()'s workers, a thread each, or the most one loop of a frame ran on)."""
         return self._core.stats
 
     def joints(self):

@@ -87,16 +87,35 @@ def test_bake_reported_stale_after_target_edit(addon):
     assert playback.find(obj, "Basis", "Bend").status == "stale"
 
 
+def test_a_bake_given_eight_threads_runs_them(addon):
+    """Eight workers on this machine of fewer cores: the 8 factors are one frames() call of a
+    worker each, and the solver's stats count the threads that ran."""
+    from bdinterp_blender.api import bake_job
+    from bdinterp_blender.solve import core, frames_per_call
+    obj = bent_strip()
+    factors = [k / 9 for k in range(1, 9)]
+    job = bake_job(obj, "Bend", factors=factors, threads=8)
+    assert frames_per_call(8) >= len(factors)
+    assert job.step() == 8 and job.finished
+    assert job.job.solver.stats.threads == 8
+    assert job.job.solver.stats.converged
+    cores = core().threading_info()["usable_cores"]
+    default = bake_job(obj, "Bend", factors=factors)  # a worker per usable core
+    default.step()
+    assert default.job.solver.stats.threads == min(cores, len(factors))
+
+
 def test_progress_per_chunk_and_cancel_writes_nothing(addon):
     obj = bent_strip()
-    from bdinterp_blender.names import CHUNK
+    from bdinterp_blender.solve import frames_per_call
+    chunk = frames_per_call()
     calls = []
-    addon.bake(obj, target="Bend", count=2 * CHUNK + 1, progress=lambda d, t: calls.append((d, t)))
-    assert calls == [(CHUNK, 2 * CHUNK + 1), (2 * CHUNK, 2 * CHUNK + 1), (2 * CHUNK + 1, 2 * CHUNK + 1)]
+    addon.bake(obj, target="Bend", count=2 * chunk + 1, progress=lambda d, t: calls.append((d, t)))
+    assert calls == [(chunk, 2 * chunk + 1), (2 * chunk, 2 * chunk + 1), (2 * chunk + 1, 2 * chunk + 1)]
     addon.clear(obj, "Bend")
     before = (key_names(obj), sorted(obj.keys()))
-    with pytest.raises(ValueError, match="cancelled after %d of %d" % (CHUNK, 2 * CHUNK + 1)):
-        addon.bake(obj, target="Bend", count=2 * CHUNK + 1, progress=lambda d, t: False)
+    with pytest.raises(ValueError, match="cancelled after %d of %d" % (chunk, 2 * chunk + 1)):
+        addon.bake(obj, target="Bend", count=2 * chunk + 1, progress=lambda d, t: False)
     assert (key_names(obj), sorted(obj.keys())) == before
 
 

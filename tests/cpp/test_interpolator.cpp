@@ -7,6 +7,7 @@
 #include "bdinterp/distortion.h"
 #include "bdinterp/interpolator.h"
 #include "metric_blend.h"
+#include "parallel.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -141,7 +142,7 @@ TEST(Interpolator, ThreadCountDoesNotChangeTheFrames) {
   const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 3.0, 0.125); });
   Interpolator all({m.V, bent}, m.F), one({m.V, bent}, m.F);
   one.set_threads(1);
-  const std::vector<double> ts{0.2, 0.21, 0.22, 0.3, 0.5, 0.7, 0.9, 0.95};  // 2 workers in frames()
+  const std::vector<double> ts{0.2, 0.21, 0.22, 0.3, 0.5, 0.7, 0.9, 0.95};  // a worker per core in frames()
   for (double t : ts) {
     const Positions a = all.at(t), b = one.at(t);
     EXPECT_LT(max_abs(a - b), 1e-10 * max_abs(bent)) << "t = " << t;
@@ -154,6 +155,33 @@ TEST(Interpolator, ThreadCountDoesNotChangeTheFrames) {
   all.frames(ts, seq);
   for (size_t k = 0; k < ts.size(); ++k)
     EXPECT_LT(max_abs(seq.middleRows(k * m.V.rows(), m.V.rows()) - one.at(ts[k])), 1e-8 * max_abs(bent));
+}
+
+TEST(Interpolator, FramesRunTheWorkersAskedForEachOnAThread) {
+  // threads = 8 on a machine of fewer cores: a sequence of 8 frames runs on 8 threads, one worker
+  // each; never more workers than frames; a single frame's loops run on at most the usable cores.
+  const auto m = testing::jittered_grid(40, 10, 1.0, 0.25, 5);
+  const Positions bent = testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 2.0, 0.125); });
+  InterpolatorOptions options;
+  options.threads = 8;
+  Interpolator I({m.V, bent}, m.F, {}, options);
+  const std::vector<double> eight{0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8}, five{0.1, 0.3, 0.5, 0.7, 0.9};
+  Positions out(eight.size() * m.V.rows(), 2);
+  I.frames(eight, out);
+  EXPECT_EQ(I.last_stats().threads, 8);
+  EXPECT_TRUE(I.last_stats().converged);
+  I.frames(five, out.topRows(five.size() * m.V.rows()));
+  EXPECT_EQ(I.last_stats().threads, 5);
+  I.set_threads(3);
+  I.frames(eight, out);
+  EXPECT_EQ(I.last_stats().threads, 3);
+  I.set_threads(1);
+  I.frames(eight, out);
+  EXPECT_EQ(I.last_stats().threads, 1);
+  I.set_threads(0);
+  I.at(0.5);
+  EXPECT_GE(I.last_stats().threads, 1);
+  EXPECT_LE(I.last_stats().threads, parallel::usable_cores());
 }
 
 TEST(Interpolator, MultiTargetReproducesEveryInput) {

@@ -15,6 +15,7 @@
 #include <sys/resource.h>
 #endif
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -69,7 +70,9 @@ TEST(Parallel, EveryChunkRunsOnceAndSumsAreReproducible) {
   // Sums of 1/i over per-chunk partials are bit-identical whatever the timing (random work per
   // chunk), and equal to the serial sum of the chunks' sums in chunk order.
   const long n = 200000;
-  const int chunks = 4;
+  const parallel::Loop loop(n);
+  const int chunks = loop.chunks();
+  EXPECT_EQ(chunks, parallel::usable_cores());
   std::vector<double> expected(chunks, 0.0);
   for (int k = 0; k < chunks; ++k) {
     const auto [first, last] = parallel::share(n, k, chunks);
@@ -78,15 +81,17 @@ TEST(Parallel, EveryChunkRunsOnceAndSumsAreReproducible) {
   double total = 0;
   for (double e : expected) total += e;
   for (int rep = 0; rep < 50; ++rep) {
-    std::vector<std::atomic<int>> runs(chunks);
+    std::vector<std::atomic<long>> runs(chunks);
     parallel::PerChunk part(chunks);
-    parallel::run(chunks, [&](int k) {
+    loop.run([&](int k, long i) {
       ++runs[k];
-      if ((k + rep) % 3 == 0) std::this_thread::sleep_for(std::chrono::microseconds(50));
-      const auto [first, last] = parallel::share(n, k, chunks);
-      for (long i = first; i < last; ++i) part.at(k) += 1.0 / (i + 1);
+      if ((k + rep) % 3 == 0 && i % 50000 == 0) std::this_thread::sleep_for(std::chrono::microseconds(50));
+      part.at(k) += 1.0 / (i + 1);
     });
-    for (int k = 0; k < chunks; ++k) EXPECT_EQ(runs[k].load(), 1);
+    for (int k = 0; k < chunks; ++k) {
+      const auto [first, last] = parallel::share(n, k, chunks);
+      EXPECT_EQ(runs[k].load(), last - first);
+    }
     EXPECT_EQ(part.sum(), total);  // bitwise
   }
 }
@@ -99,7 +104,7 @@ TEST(Parallel, NestedAndConcurrentRunsComplete) {
   for (int c = 0; c < 4; ++c) {
     callers.emplace_back([&] {
       for (int rep = 0; rep < 200; ++rep)
-        parallel::for_each(3, 30, [&](int, long) { parallel::for_each(2, 5, [&](int, long) { ++count; }); });
+        parallel::Loop(30, 100).run([&](int, long) { parallel::Loop(5, 1000).run([&](int, long) { ++count; }); });
     });
   }
   for (auto& t : callers) t.join();
@@ -118,7 +123,7 @@ TEST(Parallel, IdleWorkersSleep) {
     if (cpu_seconds() - t < 0.002) break;
   }
   std::vector<double> x(100000, 1.0);
-  parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
+  parallel::Loop(static_cast<long>(x.size())).run([&](int, long i) { x[i] = std::sqrt(x[i] + i); });
   double before = cpu_seconds();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
   EXPECT_LT(cpu_seconds() - before, 0.02);
@@ -127,7 +132,7 @@ TEST(Parallel, IdleWorkersSleep) {
   {
     const parallel::ThreadLimit frame(0);
     for (int k = 0; k < 3; ++k)
-      parallel::for_each(2, static_cast<long>(x.size()), [&](int, long i) { x[i] = std::sqrt(x[i] + i); });
+      parallel::Loop(static_cast<long>(x.size())).run([&](int, long i) { x[i] = std::sqrt(x[i] + i); });
   }
   before = cpu_seconds();
   std::this_thread::sleep_for(std::chrono::milliseconds(200));
@@ -203,18 +208,18 @@ TEST(Parallel, LoopsRunOnTheCallerWhileOtherProgramsTakeTheCores) {
   const parallel::ThreadLimit frame(0);
   // Up to 0.4 s of loops (a worker awake while idle), for the verdict to leave its cautious start.
   for (int k = 0; k < 80 && parallel::machine_busy(); ++k)
-    parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    parallel::Loop(2, 1000).run([](int, long) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
   // Whether the verdict turns, not only starts, busy: on a busy machine it was busy before.
   std::printf("[ busy before the competitors: %d ]\n", parallel::machine_busy() ? 1 : 0);
   const testing::Competitors others(2 * cores);
   const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(kCompetitorStartMs);
   while (std::chrono::steady_clock::now() < until && !parallel::machine_busy()) {
-    parallel::run(2, [](int) {});
+    parallel::Loop(2, 1000).run([](int, long) {});
     std::this_thread::sleep_for(std::chrono::milliseconds(12));
   }
   const bool busy = parallel::machine_busy();
   std::vector<std::thread::id> ran(2);
-  for (int rep = 0; rep < 20; ++rep) parallel::run(2, [&](int k) { ran[k] = std::this_thread::get_id(); });
+  for (int rep = 0; rep < 20; ++rep) parallel::Loop(2, 1000).run([&](int k, long) { ran[k] = std::this_thread::get_id(); });
   EXPECT_TRUE(busy);
   EXPECT_EQ(ran[0], std::this_thread::get_id());
   EXPECT_EQ(ran[1], std::this_thread::get_id());
@@ -227,51 +232,33 @@ TEST(Parallel, LoopsGoToTheWorkersWhileTheMachineIsIdle) {
   if (parallel::usable_cores() < 2) GTEST_SKIP() << "one usable core";
   const parallel::ThreadLimit frame(0);
   for (int k = 0; k < 80 && parallel::machine_busy(); ++k)
-    parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    parallel::Loop(2, 1000).run([](int, long) {}), std::this_thread::sleep_for(std::chrono::milliseconds(5));
   if (parallel::machine_busy()) GTEST_SKIP() << "the machine is busy";
   int elsewhere = 0;
   for (int rep = 0; rep < 20; ++rep) {
     std::vector<std::thread::id> ran(2);
-    parallel::run(2, [&](int k) {
+    parallel::Loop(2, 50000).run([&](int k, long) {
       ran[k] = std::this_thread::get_id();
       const auto until = std::chrono::steady_clock::now() + std::chrono::microseconds(200);
       while (std::chrono::steady_clock::now() < until) {}  // a chunk's work, long enough to be shared
-    }, 100000);
+    });
     elsewhere += ran[0] != ran[1];
   }
   EXPECT_GE(elsewhere, 1);  // a worker may be descheduled now and then: its chunk is the caller's
 }
 
-TEST(Parallel, WholeTasksGoToTheWorkersAlsoOnABusyMachine) {
-  // Frames of a sequence (kWholeTasks) are not loops: a worker takes the second task while the
-  // caller runs the first, whatever the busy verdict (independent check: the thread ids).
-  const int cores = parallel::usable_cores();
-  if (cores < 2) GTEST_SKIP() << "one usable core";
-  const parallel::ThreadLimit frame(0);
-  const testing::Competitors others(2 * cores);
-  const auto until = std::chrono::steady_clock::now() + std::chrono::milliseconds(kCompetitorStartMs);
-  while (std::chrono::steady_clock::now() < until && !parallel::machine_busy())
-    parallel::run(2, [](int) {}), std::this_thread::sleep_for(std::chrono::milliseconds(12));
-  ASSERT_TRUE(parallel::machine_busy());
-  int elsewhere = 0;
-  for (int rep = 0; rep < 10; ++rep) {
-    std::vector<std::thread::id> ran(2);
-    parallel::run(2, [&](int k) {
-      ran[k] = std::this_thread::get_id();
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));  // a task: milliseconds of work
-    }, parallel::kWholeTasks);
-    elsewhere += ran[0] != ran[1];
-  }
-  EXPECT_GE(elsewhere, 8);  // a worker may now and then not be scheduled in time: its task is the caller's
-}
-
-TEST(Parallel, LoopsOfAKnownSmallSizeRunOnTheCaller) {
-  // The policy's size rule: under 500 items a fork/join is not worth it, whatever the load.
+TEST(Parallel, LoopsOfLittleWorkRunOnTheCaller) {
+  // The size rule: under 500 simple iterations of work a fork/join is not worth it, whatever the
+  // load; the same loop with more work per iteration is split.
   const parallel::ThreadLimit frame(0);
   std::vector<std::thread::id> ran(2);
-  for (int rep = 0; rep < 20; ++rep) parallel::run(2, [&](int k) { ran[k] = std::this_thread::get_id(); }, 499);
+  const parallel::Loop small(2, 249);
+  EXPECT_EQ(small.chunks(), 1);
+  for (int rep = 0; rep < 20; ++rep) small.run([&](int, long i) { ran[i] = std::this_thread::get_id(); });
   EXPECT_EQ(ran[0], std::this_thread::get_id());
   EXPECT_EQ(ran[1], std::this_thread::get_id());
+  EXPECT_EQ(parallel::Loop(2, 250).chunks(), std::min(2, parallel::usable_cores()));
+  EXPECT_EQ(frame.threads_ran(), 1);
 }
 
 TEST(Parallel, CpuQuotasInCores) {
@@ -329,14 +316,15 @@ TEST(Parallel, BlasRunsOnOneThreadWhileAFrameIsComputed) {
 #endif
 
 TEST(Parallel, SmallLoopsAndLimitsStaySerial) {
-  EXPECT_EQ(parallel::loop_threads(10), 1);
+  EXPECT_EQ(parallel::Loop(10).chunks(), 1);
+  EXPECT_EQ(parallel::Loop(3, 1e6).chunks(), std::min(3, parallel::usable_cores()));  // at most n
   const parallel::ThreadLimit one(1);
-  EXPECT_EQ(parallel::loop_threads(1000000), 1);
+  EXPECT_EQ(parallel::Loop(1000000).chunks(), 1);
   {
     const parallel::ThreadLimit two(2);
-    EXPECT_LE(parallel::loop_threads(1000000), 2);
+    EXPECT_LE(parallel::Loop(1000000).chunks(), 2);
   }
-  EXPECT_EQ(parallel::loop_threads(1000000), 1);
+  EXPECT_EQ(parallel::Loop(1000000).chunks(), 1);
 }
 
 }  // namespace

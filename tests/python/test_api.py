@@ -236,6 +236,22 @@ def test_one_interpolator_shared_by_threads_gives_the_sequential_frames(disk):
 
 # ---------------------------------------------------------------------------- threads and runtimes
 
+def test_frames_run_the_threads_asked_for_and_report_them(disk):
+    # threads=8 on this machine of fewer cores: 8 factors are 8 workers, a thread each; the frames
+    # are a single-threaded Interpolator's to the solver's tolerance.
+    V, F = disk
+    T = meshes.apply_map("phi2", V)
+    ts = np.linspace(0.1, 0.8, 8)
+    eight = bdinterp.Interpolator([V, T], F, threads=8)
+    got = eight.frames(ts)
+    assert eight.stats.threads == 8 and eight.stats.converged
+    one = bdinterp.Interpolator([V, T], F, threads=1)
+    assert np.abs(got - one.frames(ts)).max() < 1e-8 * np.abs(T).max()
+    assert one.stats.threads == 1
+    eight.frames(ts[:3])
+    assert eight.stats.threads == 3  # never more workers than frames
+
+
 def test_threading_info_names_the_runtimes_cholmod_calls():
     # Debian's CHOLMOD calls OpenBLAS and libgomp: bdinterp must find the very libraries it binds
     # to (their thread controls are what keeps frames off other programs' cores).

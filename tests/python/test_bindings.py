@@ -48,7 +48,8 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
     st = interp.stats
     assert isinstance(st, bdinterp.FrameStats)
     ints = ("iterations", "broken_triangles", "max_broken_triangles", "line_search_steps", "pieces",
-            "factorizations", "chord_steps", "fold_faces", "fold_free_vertices", "joints")
+            "factorizations", "chord_steps", "convex_solves", "fold_faces", "fold_free_vertices",
+            "joints", "threads")
     floats = ("residual", "flatness", "seconds")
     assert set(st.keys()) == set(ints + floats + ("converged", "warnings", "hole_closure"))
     assert st.converged is True and st.warnings == ""
@@ -59,6 +60,8 @@ def test_frame_stats_is_typed_with_a_dict_view(disk):
         assert type(getattr(st, k)) is float and st[k] == getattr(st, k)
     assert st.as_dict() == {k: getattr(st, k) for k in st.keys()}
     assert st.pieces == 1 and "pieces=1" in repr(st) and "warnings=''" in repr(st)
+    assert st.convex_solves == 1  # a disk: one convex solve
+    assert 1 <= st.threads <= 2
     with pytest.raises(KeyError, match="no field 'nope'"):
         st["nope"]
     with pytest.raises(AttributeError):

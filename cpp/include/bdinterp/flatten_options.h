@@ -26,18 +26,22 @@ struct FlattenOptions {
 void validate(const FlattenOptions& options);
 
 struct FlattenReport {
-  int iterations = 0;            // Newton steps taken
+  // Newton steps of one convex solve; a piece with holes solves several (convex_solves), and
+  // reports the most any one took, as merge() does over pieces and frames.
+  int iterations = 0;
   double residual = 0;           // final max |2pi - angle sum| (radians)
   int broken_triangles = 0;      // faces violating the triangle inequality in the final metric
   int max_broken_triangles = 0;  // the most seen at any Newton iterate
   int line_search_steps = 0;     // step halvings over all iterations
   int factorizations = 0;        // numeric factorisations (Newton steps with a fresh Hessian)
   int chord_steps = 0;           // steps that reused an earlier factorisation (also in iterations)
+  int convex_solves = 0;         // convex solves (Newton runs): 1 a disk, more to close holes' periods
 };
 
 // Reports of several solves (pieces of a frame, frames of a sequence) combined by one rule: the
 // worst of each state measure (iterations, residual, broken_triangles, max_broken_triangles: the
-// most in any one solve), the sum of the work (line_search_steps, factorizations, chord_steps).
+// most in any one solve), the sum of the work (line_search_steps, factorizations, chord_steps,
+// convex_solves).
 void merge(FlattenReport& into, const FlattenReport& other);
 
 }  // namespace bdinterp

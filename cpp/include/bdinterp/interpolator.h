@@ -35,9 +35,9 @@ struct JointLink {
 struct InterpolatorOptions {
   FlattenOptions flatten;
   int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
-  // Threads: frames() splits a sequence over this many workers (never more than one per 4 frames),
-  // and a single frame splits its face loops over this many threads. 0 = one per core,
-  // 1 = sequential; at most kMaxThreads.
+  // Threads: frames() splits a sequence over this many workers, each on a thread of its own (at
+  // most one per frame), and a single frame splits its face loops over up to this many threads
+  // (the usable cores at most). 0 = one per usable core, 1 = sequential; at most kMaxThreads.
   int threads = 0;
   // The self-check of every frame: the layout's flatness (see Layout::embed) must be at most
   // max_flatness (a converged frame measures 1e-13 .. 1e-9) and the flattened metric must have no
@@ -75,6 +75,9 @@ struct FrameStats : FlattenReport {
   int fold_faces = 0;
   int fold_free_vertices = 0;
   int joints = 0;  // joints between pieces (joints.h); 0 when InterpolatorOptions::joints is off
+  // The threads that ran: frames()'s workers when it had several (a thread each), else the most
+  // threads one loop of a frame ran on (1 when serial, e.g. while the machine is busy).
+  int threads = 0;
 };
 
 // No hidden state: a frame depends on its weights, not on the calls before it: with the default
@@ -111,9 +114,9 @@ class Interpolator {
   // k shapes: the bounded-distortion blend for weights w (#k, sum 1; negative entries extrapolate).
   Positions blend(const Eigen::VectorXd& w);
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
-  // The sequence is cut into contiguous chunks solved on the pool (parallel.h; serially while it
-  // judges the machine busy, with the same chunks and results; see InterpolatorOptions::threads);
-  // each frame is warm-started from the frames before it in its chunk. Afterwards last_stats()
+  // The sequence is cut into contiguous chunks, one per worker, each on a thread of its own (see
+  // InterpolatorOptions::threads); each frame is warm-started from the frames before it in its
+  // chunk. Afterwards last_stats()
   // merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);

@@ -38,7 +38,7 @@ class EnergyEvaluator {
   void assemble_hessian(const Evaluation& at, double* H);
 
  private:
-  void scale(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, int threads, Evaluation& out);
+  void scale(const Eigen::VectorXd& l2, const Eigen::VectorXd& u, Evaluation& out);
 
   const FlattenPlan* plan_;
   parallel::Partials sum_parts_, re_parts_, im_parts_, hessian_parts_;

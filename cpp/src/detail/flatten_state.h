@@ -15,6 +15,9 @@ namespace bdinterp {
 namespace detail {
 // Operation-count estimate of one evaluation of the angle sums per face (sqrt, exp, products).
 constexpr double kFlopsPerFace = 150;
+// CG iterations a chord step may take before a fresh factorisation is the better deal (also the
+// bound of the holes' linear solves, holes_response.cpp).
+constexpr int kMaxCgIterations = 12;
 }  // namespace detail
 
 // One thread's workspace: evaluations, the Hessian values, the numeric factor and the cost model.
@@ -51,7 +54,7 @@ struct Flattener::State {
   detail::RefactorPolicy policy;
   detail::PcgScratch pcg;
   Eigen::VectorXd step, rhs, trial_u;
-  Eigen::VectorXd shifted, move;  // follow(): the defects after the offsets (#unknowns + 1), the move (#V)
+  Eigen::VectorXd shifted, move;  // the holes' linear steps: the defects after the offsets (#unknowns + 1), the move (#V)
 };
 
 }  // namespace bdinterp
