@@ -87,6 +87,9 @@ void bind_threading_info(py::module_& m) {
 void bind_interpolator(py::module_& m) {
   bind_options(m);
   bind_threading_info(m);
+  m.def("piece_labels", &piece_labels, py::arg("faces"), py::arg("num_vertices"),
+        "(n,) the piece of every vertex as the Interpolator splits the mesh, numbered in order of "
+        "each piece's lowest vertex; a vertex in no face is a piece of its own.");
   py::class_<Interpolator>(m, "Interpolator")
       .def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
                     const InterpolatorOptions&>(),

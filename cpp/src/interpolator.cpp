@@ -310,4 +310,18 @@ void Interpolator::prepare_workers(int workers) {
     for (size_t p = 0; p < plans_.size(); ++p) workers_[k][p]->continue_from(*workers_[0][p]);
 }
 
+Eigen::VectorXi piece_labels(const Faces& F, int num_vertices) {
+  if (num_vertices < 0) throw InvalidInput("piece_labels: num_vertices must be >= 0");
+  const Mesh mesh(F, num_vertices);
+  std::vector<int> label_of(mesh.num_pieces(), -1);
+  Eigen::VectorXi labels(num_vertices);
+  int next = 0;
+  for (int v = 0; v < num_vertices; ++v) {
+    const int p = mesh.piece_of_vertex(v);
+    if (p < 0) labels[v] = next++;
+    else labels[v] = label_of[p] >= 0 ? label_of[p] : (label_of[p] = next++);
+  }
+  return labels;
+}
+
 }  // namespace bdinterp

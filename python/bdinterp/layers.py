@@ -5,25 +5,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _core
 from .constants import PLANAR_TOLERANCE
 from .errors import invalid
 from .plane import Plane
 
 
 def piece_labels(num_vertices, faces):
-    """(n,) the loose part (connected by faces) of every vertex, numbered 0, 1, ... in order of each
-    part's lowest vertex; a vertex in no face is a part of its own."""
-    faces = np.asarray(faces, dtype=np.int64).reshape(-1, 3)
-    labels = np.arange(num_vertices)
-    while True:  # every vertex takes the least label of its faces, then its label's (pointer jumping)
-        new = labels.copy()
-        np.minimum.at(new, faces, labels[faces].min(axis=1)[:, None])
-        new = new[new]
-        if np.array_equal(new, labels):
-            break
-        labels = new
-    _, labels = np.unique(labels, return_inverse=True)  # a part's label is its lowest vertex
-    return labels
+    """(n,) the piece of every vertex as the Interpolator splits the mesh (faces joined through
+    shared edges), numbered 0, 1, ... in order of each piece's lowest vertex; a vertex in no face
+    is a piece of its own. InvalidInputError for a bad index or a non-manifold mesh."""
+    faces = np.ascontiguousarray(np.asarray(faces).reshape(-1, 3), dtype=np.int32)
+    return _core.piece_labels(faces, int(num_vertices)).astype(np.int64)
 
 
 @dataclass(frozen=True)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <vector>
 
+#include "bdinterp/interpolator.h"
 #include "mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
@@ -54,6 +55,15 @@ TEST(Mesh, RejectsNonManifoldEdgeAndOrientation) {
 TEST(Mesh, RejectsBowtieVertex) {
   // Two triangles sharing only vertex 0.
   expect_invalid([] { Mesh(faces({{0, 1, 2}, {0, 3, 4}}), 5); }, "vertex 0: non-manifold");
+}
+
+TEST(Mesh, PieceLabelsFollowTheLowestVertexOfEachPiece) {
+  // The later faces hold the lower vertices; 4 and 9 are in no face; 5 and 8 meet in no face.
+  const Eigen::VectorXi labels = piece_labels(faces({{5, 6, 7}, {7, 6, 8}, {2, 3, 1}, {0, 1, 3}}), 10);
+  const std::vector<int> got(labels.data(), labels.data() + labels.size());
+  EXPECT_EQ(got, (std::vector<int>{0, 0, 0, 0, 1, 2, 2, 2, 2, 3}));
+  expect_invalid([] { piece_labels(faces({{0, 1, 2}, {0, 3, 4}}), 5); }, "vertex 0: non-manifold");
+  expect_invalid([] { piece_labels(faces({{0, 1, 5}}), 3); }, "out of range");
 }
 
 TEST(Mesh, RejectsAVertexWithAClosedAndAnOpenFanInOnePiece) {

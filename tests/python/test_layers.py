@@ -78,8 +78,11 @@ def test_a_piece_in_a_plane_that_is_not_parallel_is_named(shoulder):
 
 
 def test_piece_labels_follow_the_faces():
-    F = np.array([[0, 1, 2], [5, 6, 7], [2, 3, 1], [7, 8, 6]])
+    F = np.array([[0, 1, 2], [5, 6, 7], [2, 1, 3], [7, 6, 8]])
     np.testing.assert_array_equal(bdinterp.layers.piece_labels(10, F), [0, 0, 0, 0, 1, 2, 2, 2, 2, 3])
+    with pytest.raises(bdinterp.InvalidInputError, match="non-manifold") as info:
+        bdinterp.layers.piece_labels(5, [[0, 1, 2], [0, 3, 4]])  # two triangles meeting at a vertex
+    assert info.value.vertex == 0
 
 
 def test_layers_fitted_by_the_caller_are_used_as_they_are(shoulder):

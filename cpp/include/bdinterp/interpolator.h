@@ -175,4 +175,9 @@ class Interpolator {
   mutable std::mutex mutex_;
 };
 
+// (#V) the piece of every vertex as Interpolator splits the mesh (faces joined through shared
+// edges), numbered 0, 1, ... in order of each piece's lowest vertex; a vertex in no face is a piece
+// of its own. Throws InvalidInput for an index outside [0, num_vertices) or a non-manifold mesh.
+Eigen::VectorXi piece_labels(const Faces& F, int num_vertices);
+
 }  // namespace bdinterp
