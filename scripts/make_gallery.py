@@ -14,7 +14,8 @@ For every example (examples/<name>/{source,target}.obj) it interpolates at
 
 plus convergence.png (Fig. 6 left), and GALLERY.md with one table per
 example: max K over t, faces flipped (or collapsed), the error at t = 1 and,
-for BDI, the most Newton iterations in a frame.  The same markdown is printed on
+for BDI, the most Newton iterations in a frame, and at its end the pictures other
+scripts draw (OTHER_PICTURES).  The same markdown is printed on
 stdout.  A full run (no NAMEs, default --out) also writes the summary table,
 one row per example, into README.md between the README_BEGIN and README_END
 lines, so that the README's numbers are never typed by hand.  Given NAMEs,
@@ -47,6 +48,16 @@ LABELS = {"affine": "affine (Fig. 4)", "bar_half_bent": "bar_half_bent (Fig. 11)
           "skinned_swing": "skinned_swing (armature, folds)",
           "body_tail": "body_tail (tail bent 300°)",
           "cutout": "cutout (7 layered pieces, 6 pins)"}
+# Pictures drawn by other scripts, listed at the end of a full GALLERY.md.
+OTHER_PICTURES = [
+    "### Meshes from sprites", "",
+    "Each sprite of examples/sprites with its mesh from `bdinterp.mesh_from_image` "
+    "(default parameters) over it; below, the mesh's right part turned 90° about the top "
+    "middle of its bounding box (the turn ramps smoothly across the middle 80 % of its "
+    "width: the target, green), the source (grey) and bdinterp's in-between at t = 0.5 "
+    "coloured by K, never above the target's largest K. Drawn by `/usr/bin/python3 "
+    "scripts/sprites_gallery.py`, which prints the figures (docs/SPRITES.md).", "",
+    "![sprites, their meshes and a bend of each](sprites.png)", ""]
 README_BEGIN = "<!-- gallery table: written by scripts/make_gallery.py -->"
 README_END = "<!-- end of gallery table -->"
 
@@ -238,7 +249,7 @@ def main():
                 md.append(f"| {name} | {t:g} | " + " | ".join(
                     f"{e2:.2e} / {ei:.2e}" for e2, ei in
                     zip(data["E2"][i, k], data["Einf"][i, k])) + " |")
-        md += ["", "![convergence](convergence.png)", ""]
+        md += ["", "![convergence](convergence.png)", ""] + OTHER_PICTURES
     md[4:4] = [summary(rows)]
     text = "\n".join(md)
     if not args.names:  # a partial run must not clobber the full page
