@@ -6,9 +6,11 @@ InvalidInputError points (its shape, face = a triangle, vertex) into Blender's t
 polygon indices).
 """
 
+import time
+
 from . import mesh_io, rig
 from .mesh_io import BakeError
-from .names import FRAMES_PER_WORKER
+from .names import FRAMES_PER_WORKER, STEP_SECONDS
 
 
 def core():
@@ -166,21 +168,30 @@ def _anchor_path(obj, path_obj, vertex):
     return core().AnchorPath(ts, pts, angles, vertex=vertex)
 
 
+def workers(threads=0):
+    """The solver's workers for `threads` (0: one per usable core)."""
+    return threads or core().threading_info()["usable_cores"]
+
+
 def frames_per_call(threads=0):
-    """Frames per step() of a FrameJob: FRAMES_PER_WORKER for each worker (threads, 0 = one per
-    usable core), so that a step takes about the same time on any number of cores."""
-    return FRAMES_PER_WORKER * (threads or core().threading_info()["usable_cores"])
+    """The most frames a step() of a FrameJob computes: FRAMES_PER_WORKER for each worker (threads,
+    0 = one per usable core), so that each worker warm-starts along its frames."""
+    return FRAMES_PER_WORKER * workers(threads)
 
 
 class FrameJob:
     """The frames of inp at factors ts, computed chunk by chunk (step()), so that a caller can show
     progress and cancel between chunks.  'bdi' goes through Interpolator.frames() (warm-started,
     on `threads` workers, 0 = every usable core; its stats.threads: the threads that ran);
-    'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API."""
+    'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API.  chunk None:
+    a frame per worker first, then as many rounds of a frame per worker as fit in STEP_SECONDS (at
+    most frames_per_call); else `chunk` frames a step."""
 
     def __init__(self, inp, ts, method="bdi", chunk=None, threads=0):
-        chunk = frames_per_call(threads) if chunk is None else chunk
-        self.inp, self.ts, self.method, self.chunk = inp, list(ts), method, max(1, int(chunk))
+        self.inp, self.ts, self.method = inp, list(ts), method
+        self.workers = workers(threads)
+        self.chunk = max(1, int(frames_per_call(threads) if chunk is None else chunk))
+        self.adaptive, self.next = chunk is None, self.workers if chunk is None else self.chunk
         self.done, self._parts = 0, []
         self._solver = inp.interpolator(threads) if method == "bdi" else None
 
@@ -196,8 +207,8 @@ class FrameJob:
     def step(self):
         """Compute the next chunk; returns the number of frames done so far."""
         import numpy as np
-        ts = self.ts[self.done:self.done + self.chunk]
-        inp = self.inp
+        ts = self.ts[self.done:self.done + self.next]
+        inp, started = self.inp, time.perf_counter()
         try:
             if self._solver is not None:
                 part = self._solver.frames(ts)
@@ -208,6 +219,10 @@ class FrameJob:
             raise inp.explain(exc) from exc
         self._parts.append(np.asarray(part, dtype=np.float64))
         self.done += len(ts)
+        if self.adaptive:  # a round: a frame on each worker at once
+            per_round = (time.perf_counter() - started) / -(-len(ts) // self.workers)
+            rounds = max(1, int(STEP_SECONDS / max(per_round, 1e-9)))
+            self.next = min(self.chunk, rounds * self.workers)
         return self.done
 
     def frames(self):

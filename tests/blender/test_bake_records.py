@@ -106,18 +106,45 @@ def test_a_bake_given_eight_threads_runs_them(addon):
 
 
 def test_progress_per_chunk_and_cancel_writes_nothing(addon):
+    # A small mesh: a frame per worker first, then the most frames a call may take.
     obj = bent_strip()
-    from bdinterp_blender.solve import frames_per_call
-    chunk = frames_per_call()
+    from bdinterp_blender.solve import frames_per_call, workers
+    first, chunk = workers(), frames_per_call()
+    total = first + chunk + 1
     calls = []
-    addon.bake(obj, target="Bend", count=2 * chunk + 1, progress=lambda d, t: calls.append((d, t)))
-    assert calls == [(chunk, 2 * chunk + 1), (2 * chunk, 2 * chunk + 1), (2 * chunk + 1, 2 * chunk + 1)]
+    addon.bake(obj, target="Bend", count=total, progress=lambda d, t: calls.append((d, t)))
+    assert calls == [(first, total), (first + chunk, total), (total, total)]
     addon.clear(obj, "Bend")
     before = (key_names(obj), sorted(obj.keys()))
-    with pytest.raises(ValueError, match="cancelled after %d of %d" % (chunk, 2 * chunk + 1)):
-        addon.bake(obj, target="Bend", count=2 * chunk + 1, progress=lambda d, t: False)
+    with pytest.raises(ValueError, match="cancelled after %d of %d" % (first, total)):
+        addon.bake(obj, target="Bend", count=total, progress=lambda d, t: False)
     assert (key_names(obj), sorted(obj.keys())) == before
 
+
+@pytest.mark.parametrize("round_seconds, frames", [(0.01, [2, 8, 8, 2]), (0.06, [2, 4, 4, 4, 4, 2]),
+                                                   (0.5, [2] * 10)])
+def test_a_step_takes_the_rounds_that_fit_in_its_time(addon, monkeypatch, round_seconds, frames):
+    """On a clock that a round of frames (one on each of 2 workers) moves by round_seconds, the
+    steps after the first take as many rounds as fit in STEP_SECONDS (0.15), at least one, at most
+    FRAMES_PER_WORKER (4) frames a worker."""
+    from bdinterp_blender import solve
+    clock = [0.0]
+
+    class Slow:
+        def frames(self, ts):
+            clock[0] += round_seconds * -(-len(ts) // 2)
+            return np.zeros((len(ts), 3, 3))
+
+    monkeypatch.setattr(solve.time, "perf_counter", lambda: clock[0])
+    from bdinterp_blender.settings import BakeSettings
+    job = solve.FrameJob(solve.Inputs(bent_strip(), BakeSettings("Bend")), [0.5] * 20,
+                         threads=2)
+    job._solver = Slow()
+    steps = []
+    while not job.finished:
+        before = job.done
+        steps.append(job.step() - before)
+    assert steps == frames
 
 @pytest.mark.parametrize("method", ["bdi", "arap", "linear"])
 def test_chunked_frames_match_single_calls(bd, addon, method):
