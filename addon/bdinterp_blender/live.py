@@ -45,8 +45,10 @@ def settings_of(props, **changes):
     """The live Settings of the panel settings `props` (Object.bdi), with `changes` of its
     BakeSettings."""
     blend = changes.pop("mode", props.live_mode) == 'BLEND'
-    bake = from_props(props, factors=None, easing="LINEAR", **changes)
-    return Settings('BLEND' if blend else 'INTERPOLATE', bake if blend else bake.but(poses=()))
+    if not blend:
+        changes["poses"] = ()
+    return Settings('BLEND' if blend else 'INTERPOLATE',
+                    from_props(props, factors=None, easing="LINEAR", **changes))
 
 
 def prepare(obj, settings, objs=None):

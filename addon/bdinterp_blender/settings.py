@@ -59,15 +59,17 @@ class BakeSettings:
 
 
 def from_props(props, **changes):
-    """The BakeSettings of the panel settings `props` (Object.bdi), with `changes` (factors given
-    there: the panel's list is not read)."""
-    factors = changes.pop("factors") if "factors" in changes else \
-        timing.parse_factors(props.factors) if props.use_factors else None
-    return BakeSettings(
-        target=props.target, source=props.source or None, count=props.count, factors=factors,
-        easing=easing_of(props), anchor=anchor_choice(props), anchor_path=props.anchor_path,
-        method=props.method, planarity=props.tolerance, drivers=props.drivers,
-        joints=props.joints, poses=tuple(p.key for p in props.poses)).but(**changes)
+    """The BakeSettings of the panel settings `props` (Object.bdi), with `changes` (a field given
+    there is not read from the panel: live mode's every frame reads neither factors nor easing)."""
+    if "factors" not in changes:
+        changes["factors"] = timing.parse_factors(props.factors) if props.use_factors else None
+    if "easing" not in changes:
+        changes["easing"] = easing_of(props)
+    panel = dict(target=props.target, source=props.source, count=props.count,
+                 anchor=anchor_choice(props), anchor_path=props.anchor_path, method=props.method,
+                 planarity=props.tolerance, drivers=props.drivers, joints=props.joints,
+                 poses=tuple(p.key for p in props.poses))
+    return BakeSettings(**{**panel, **changes})
 
 
 def easing_of(props):
