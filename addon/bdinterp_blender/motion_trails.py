@@ -10,6 +10,12 @@ from .mesh_io import BakeError
 from .settings import BakeSettings, from_props
 
 
+def settings_of(props):
+    """The BakeSettings a Path of the panel settings `props` (Object.bdi, or None: the defaults)
+    solves with; factors and easing, which no path depends on, left at their defaults."""
+    return from_props(props, factors=None, easing="LINEAR") if props is not None else BakeSettings()
+
+
 class Path:
     """A validated source -> target interpolation of one object or character (its panel settings):
     objs (first: the one whose settings count), inp (solve.Inputs, world coordinates for a
@@ -23,8 +29,8 @@ class Path:
         target = target or (props.target if props is not None else "")
         if not target:
             raise BakeError("%s: no target shape key chosen" % objs[0].name)
-        settings = from_props(props, factors=None) if props is not None else BakeSettings()
-        settings = settings.but(target=target, source=settings.source if source is None else source)
+        settings = settings_of(props).but(target=target)
+        settings = settings if source is None else settings.but(source=source)
         self.method = settings.method
         members = character.members(objs, target) if len(objs) > 1 else objs
         if len(members) > 1:

@@ -183,13 +183,12 @@ def factor_at(objs, slider, frame=None):
 
 
 def request_key(objs, view):
-    """What the Ghosts depend on, cheap enough to compare on every redraw; last: the frame (for
-    ghosts of frames; else None)."""
+    """What the Ghosts depend on, cheap enough to compare whenever a handler invalidated the
+    Plan: the Path's settings, the view's; last: the frame (for ghosts of frames; else None)."""
     props = objs[0].bdi
-    settings = (props.source, props.target, props.method, props.anchor, props.anchor_vertex,
-                props.anchor_group, props.tolerance, props.joints, props.live_mode,
-                view.ghosts, view.ghost_source, view.step, view.trails, view.trail_vertices,
-                view.samples, view.frames_before, view.frames_after, view.frame_step)
+    settings = (motion_trails.settings_of(props), props.live_mode, view.ghosts, view.ghost_source,
+                view.step, view.trails, view.trail_vertices, view.samples, view.frames_before,
+                view.frames_after, view.frame_step)
     frame = bpy.context.scene.frame_current if view.ghosts and view.ghost_source == 'FRAMES' else None
     return (tuple(o.name for o in objs), settings, _epoch[0],
             tuple(tuple(v for row in o.matrix_world for v in row) for o in objs), frame)

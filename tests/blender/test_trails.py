@@ -160,3 +160,34 @@ def test_ghosts_of_frames_are_the_inbetweens_the_slider_keyframes_show_there(add
     # the same request at another frame reuses the solver; past the last key the factor stays 1
     again = onion.build([obj], view, frame=12, path=ghosts.path)
     assert again.path is ghosts.path and np.allclose(again.factors, [0.7, 0.9, 1.0], atol=1e-6)  # 8, 10, 14
+
+
+def test_the_ghosts_are_rebuilt_when_the_anchor_path_changes(addon, bd):
+    """The overlay's request covers every setting its Path solves with: an anchor path set after
+    the ghosts were drawn changes the request, and the ghosts built for it follow the path."""
+    from bdinterp_blender import onion
+    obj = bent_strip()
+    obj.bdi.target = "Bend"
+    view = bpy.context.scene.bdi_view
+    view.ghosts, view.trails, view.ghost_source, view.step = True, False, 'FACTORS', 0.5
+    free, key = onion.build([obj], view), onion.request_key([obj], view)
+    curve = bpy.data.curves.new("Path", 'CURVE')
+    spline = curve.splines.new('POLY')
+    pts = [(0.0, 0.0, 0.0), (1.0, 2.0, 0.0), (0.5, 4.0, 0.0)]
+    spline.points.add(len(pts) - 1)
+    for p, xyz in zip(spline.points, pts):
+        p.co = (*xyz, 1.0)
+    path = bpy.data.objects.new("Path", curve)
+    bpy.context.scene.collection.objects.link(path)
+    obj.bdi.anchor_path = path
+    assert onion.request_key([obj], view) != key
+    along = onion.build([obj], view)
+    p = np.array(pts)
+    seg = np.linalg.norm(np.diff(p, axis=0), axis=1)
+    ts = np.concatenate([[0], np.cumsum(seg)]) / seg.sum()
+    shapes = layered(bd, [read_key(obj, "Basis"), read_key(obj, "Bend")], triangles(obj))
+    anchor = bd.AnchorPath(ts, p, np.zeros(3), vertex=None)
+    expected = world(obj.matrix_world, bd.Interpolator(shapes, triangles(obj), anchor=anchor)
+                     .frames([0.5]))
+    assert np.abs(along.shapes - expected).max() < EXACT * 4
+    assert np.abs(free.shapes - expected).max() > 0.1  # the path moved the ghost
