@@ -112,11 +112,10 @@ class BakeJob:
 
     def result(self, inp, frames, note):
         """The BakeResult of frames (keys and slider filled in by write())."""
-        m = measures(inp, frames, self.job.solver)
-        m["note"] = "; ".join(text for text in (m["note"], note) if text)
         return BakeResult(keys=[], factors=self.factors, positions=self.positions,
                           source=inp.source.name, target=inp.others[0].name, slider=None,
-                          seconds=time.perf_counter() - self.started, **m)
+                          seconds=time.perf_counter() - self.started,
+                          **measures(inp, frames, self.job.solver, note))
 
     def write(self, plan):
         """Write a plan's keys (and drivers, from the slider on plan.owner): (keys, slider)."""
@@ -138,18 +137,20 @@ class Plan:
         self.__dict__.update(kw)
 
 
-def measures(inp, shapes, solver=None):
+def measures(inp, shapes, solver=None, note=""):
     """A bake's summary of `shapes` (the results, e.g. in-betweens or a blend) as BakeResult
     fields: the largest distortion K of the results and of the inputs, folded polygons, the
-    joints the solver used and where they came from, and a note on the inputs' folds."""
+    joints the solver used and where they came from, and a note on the inputs' folds followed by
+    `note`."""
     folded = solve.folded_polygons(inp, shapes)
     stats = solver.stats if solver is not None else None
+    folds = solve.input_folds(inp, solver) if solver is not None else ""
     return dict(max_distortion=max_distortion(inp.shapes[0], shapes, inp.faces, inp.layers),
                 input_distortion=max_distortion(inp.shapes[0], inp.shapes[1:], inp.faces, inp.layers),
                 folded=folded, folded_name=inp.polygon_name(folded[0]) if folded else "",
                 joints=stats.joints if stats else 0,
                 joint_source=inp.joint_source if stats and stats.joints else "",
-                note=solve.input_folds(inp, solver) if solver is not None else "")
+                note="; ".join(text for text in (folds, note) if text))
 
 
 def store_result(obj, summary):
@@ -220,7 +221,7 @@ def _factor_curve(obj):
 def bake_live(obj, count=None, job_of=BakeJob):
     """See api.bake_live: live interpolation -> in-betweens + slider animated like the factor;
     live pose blend -> one key per distinct set of weights in the scene's frame range. job_of:
-    makes the BakeJob from BakeJob's arguments (a character's: api.bake_job of its objects)."""
+    makes the BakeJob from BakeJob's arguments (a character's: api.job_of of its objects)."""
     props = getattr(obj, "bdi", None)
     if props is None or not props.live:
         raise mesh_io.BakeError("%s is not in live mode" % getattr(obj, "name", "No object"))
@@ -288,7 +289,8 @@ def _bake_live_blend(obj, props):
     solver = inp.interpolator()
     shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)
               for w in distinct]
-    m = measures(inp, shapes, solver)
+    m = measures(inp, shapes, solver, "one key per distinct set of weights over frames %d-%d, "
+                 "keyframed" % (frames[0], frames[-1]))
     # --- everything computed; from here on the file is modified ---
     source, key = inp.source.name, obj.data.shape_keys
     for kb in [kb for kb in key.key_blocks if kb.name.startswith(LIVE_KEY + ".")]:
@@ -299,8 +301,6 @@ def _bake_live_blend(obj, props):
         _keyframe_steps(key.key_blocks[name], frames, [1.0 if pw == w else 0.0 for pw in per_frame])
         names.append(name)
     _live_off(obj)
-    m["note"] = "; ".join(text for text in (m["note"], "one key per distinct set of weights over "
-                          "frames %d-%d, keyframed" % (frames[0], frames[-1])) if text)
     result = BakeResult(keys=names, factors=[], positions=[], source=source, target="pose blend",
                         slider=None, seconds=time.perf_counter() - started, **m)
     store_result(obj, result.summary())
