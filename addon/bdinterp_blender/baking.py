@@ -284,7 +284,7 @@ def _bake_live_blend(obj, props):
     frames = list(range(scene.frame_start, scene.frame_end + 1))
     per_frame = _weights_per_frame(obj, props, frames)
     distinct = sorted(set(per_frame), key=per_frame.index)
-    settings = from_props(props, anchor_path=None)
+    settings = from_props(props, factors=None, easing="LINEAR", anchor_path=None)
     inp = Inputs(obj, settings, list(settings.poses))
     solver = inp.interpolator()
     shapes = [solve.blend_shape(inp, solve.pose_weights(list(zip(inp.names[1:], w)))[1], solver)

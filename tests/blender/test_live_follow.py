@@ -169,6 +169,7 @@ def test_bake_live_pose_blend_with_a_driven_weight(addon, bd):
     obj = live_blend_strip(addon, 0.25, 5)
     fc = obj.driver_add("bdi.poses[0].weight")
     fc.driver.expression = "min(frame, 4) / 8"  # 1/8 .. 1/2, constant from frame 4 on
+    obj.bdi.use_factors, obj.bdi.factors = True, "x"  # the in-betweens' factors: not the blend's
     result = addon.bake_live(obj)
     assert len(result.keys) == 4  # frames 4 and 5 share their weights
     obj.driver_remove("bdi.poses[0].weight")
