@@ -79,17 +79,18 @@ class Plan:
         gpu.state.blend_set('ALPHA')
         gpu.state.depth_test_set('NONE')
         sh.bind()
-        for batch, colour in self.ghosts:
-            sh.uniform_float("color", colour)
-            batch.draw(sh)
+        _draw_each(sh, self.ghosts)
         gpu.state.line_width_set(2.0)
-        for batch, colour in self.lines:
-            sh.uniform_float("color", colour)
-            batch.draw(sh)
+        _draw_each(sh, self.lines)
         gpu.state.point_size_set(7.0)
-        for batch, colour in self.points:
-            sh.uniform_float("color", colour)
-            batch.draw(sh)
+        _draw_each(sh, self.points)
         gpu.state.point_size_set(1.0)
         gpu.state.line_width_set(1.0)
         gpu.state.blend_set('NONE')
+
+
+def _draw_each(sh, items):
+    """Draw each (batch, colour) of items with the bound shader sh."""
+    for batch, colour in items:
+        sh.uniform_float("color", colour)
+        batch.draw(sh)
