@@ -269,7 +269,13 @@ def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_p
     within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
     source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At
     least one: the middle, where the blend of source and target alone is within the bound."""
-    job = bake_job(obj, target, source, 1, None, "LINEAR", anchor, anchor_path, "bdi", planarity,
-                   True, joints)
-    keys = job.inp.interpolator().keyframes(error)
+    return factors_within(obj, BakeSettings(target, source, anchor=anchor, anchor_path=anchor_path,
+                                            planarity=planarity, joints=joints), error)
+
+
+def factors_within(obj, settings, error):
+    """error_bound_factors of the source -> target, anchor, anchor path, planarity and joints of
+    `settings` (a BakeSettings, e.g. the panel's)."""
+    job = job_of(obj, settings.but(count=1, factors=None, easing="LINEAR", method="bdi"))
+    keys = job.job.solver.keyframes(error)  # the job's Interpolator, precomputed once
     return [float(t) for t in keys[1:-1]] or [0.5]

@@ -10,6 +10,7 @@ from bpy.props import EnumProperty, IntProperty
 from . import api
 from .settings import CURVE_NODE, from_props
 
+
 def settings_for(props, objs=None):
     """The BakeSettings of a bake of objs from the panel settings props (Object.bdi): the error
     bound's factors are computed for those objects."""
@@ -17,9 +18,7 @@ def settings_for(props, objs=None):
     if props.use_error_bound and not props.use_factors:
         if settings.method != 'bdi':
             raise api.BakeError("the error bound measures bdi in-betweens: choose Method bdi")
-        settings = settings.but(factors=api.error_bound_factors(
-            objs, settings.target, props.error_bound, settings.source, settings.anchor,
-            settings.path_object(), settings.planarity, settings.joints))
+        settings = settings.but(factors=api.factors_within(objs, settings, props.error_bound))
     return settings
 
 
