@@ -22,6 +22,14 @@ def to_local(obj, co):
     return np.linalg.solve(m[:3, :3], (co - m[:3, 3]).T).T
 
 
+def selected_meshes(context, obj=None):
+    """obj (default: the active object), then the other selected mesh objects by name: a bake
+    solves those of them that have the target key (members) as one character."""
+    obj = context.object if obj is None else obj
+    selected = getattr(context, "selected_objects", None) or ()
+    return [obj] + sorted((o for o in selected if o.type == 'MESH' and o != obj), key=lambda o: o.name)
+
+
 def members(objects, target):
     """The mesh objects of `objects` (in order, once each) that have the shape key `target`."""
     out = []

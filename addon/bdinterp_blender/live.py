@@ -243,8 +243,7 @@ def on_toggle(obj):
 def _from_selection(obj):
     """Switched on (the panel's toggle): the selected meshes that have the target key are obj's
     character, as the bake takes them (obj alone when none is)."""
-    selected = getattr(bpy.context, "selected_objects", None) or ()
-    others = sorted((o for o in selected if o != obj), key=lambda o: o.name)
+    others = character.selected_meshes(bpy.context, obj)[1:]
     with suspended():
         set_members(obj, character_objects(obj, obj.bdi.target, others))
 

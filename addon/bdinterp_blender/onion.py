@@ -87,10 +87,8 @@ def drawn_objects(context):
         return []
     if obj.mode == 'EDIT' or obj.data.shape_keys is None:
         return []
-    others = sorted((o for o in context.selected_objects if o.type == 'MESH' and o != obj),
-                    key=lambda o: o.name)
-    from .character import members
-    return [obj] + [o for o in members(others, obj.bdi.target)]
+    from .character import members, selected_meshes
+    return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
 
 
 def _factor_of(name):

@@ -8,6 +8,7 @@ import bpy
 from bpy.props import EnumProperty, IntProperty
 
 from . import api
+from .character import selected_meshes
 from .settings import CURVE_NODE, from_props
 
 
@@ -20,13 +21,6 @@ def settings_for(props, objs=None):
             raise api.BakeError("the error bound measures bdi in-betweens: choose Method bdi")
         settings = settings.but(factors=api.factors_within(objs, settings, props.error_bound))
     return settings
-
-
-def selected_meshes(context):
-    """The active object, then the other selected mesh objects: a bake solves those that have
-    the target key as one character (the active object's settings and slider)."""
-    others = [o for o in context.selected_objects if o.type == 'MESH' and o != context.object]
-    return [context.object] + sorted(others, key=lambda o: o.name)
 
 
 class _ObjectOperator:

@@ -136,11 +136,9 @@ def draw_export(layout, obj):
 
 def character_size(context, obj):
     """How many mesh objects a bake solves together: the active one and the selected ones that
-    have the target key (operators.selected_meshes, character.members)."""
-    target = obj.bdi.target
-    objs = {obj} | {o for o in context.selected_objects if o.type == 'MESH'}
-    return sum(1 for o in objs if target and o.data.shape_keys is not None
-               and o.data.shape_keys.key_blocks.get(target) is not None)
+    have the target key."""
+    from .character import members, selected_meshes
+    return len(members(selected_meshes(context, obj), obj.bdi.target))
 
 
 def draw_bake(layout, context, obj):
