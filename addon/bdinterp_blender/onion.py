@@ -119,12 +119,17 @@ def selected_vertices(objs):
     return np.concatenate(out)
 
 
-def build(objs, view, frame=None, path=None):
+def build(objs, view, frame=None, previous=None):
     """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
-    scene's `frame`; `path`: a motion_trails.Path of the same request to reuse."""
+    scene's `frame`; `previous`: the Ghosts of the same request at another frame, whose Path,
+    outline and trails are reused (only the ghosts of frames move with the frame)."""
     import numpy as np
+    if previous is not None:
+        out = Ghosts(**previous.__dict__)
+        frame_ghosts(out, objs, view, frame)
+        return out
     solve_needed = view.trails or view.ghost_source != 'BAKED'
-    path = path or motion_trails.Path(objs, with_solver=solve_needed)
+    path = motion_trails.Path(objs, with_solver=solve_needed)
     out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
     baked, names = path.baked()
     if path.found is not None:
@@ -135,18 +140,24 @@ def build(objs, view, frame=None, path=None):
             factors = list(np.arange(1, len(names) + 1) / (len(names) + 1.0))
         out.shapes, out.factors = baked, factors
     elif view.ghosts and view.ghost_source == 'FRAMES':
-        step = view.frame_step
-        out.offsets = [-k * step for k in range(view.frames_before, 0, -1)] + \
-            [k * step for k in range(1, view.frames_after + 1)]
-        out.span = (max(view.frames_before, view.frames_after) + 1) * step
-        out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
-        out.shapes = path.frames(out.factors) if out.offsets else np.empty((0, path.size, 3))
+        frame_ghosts(out, objs, view, frame)
     elif view.ghosts:
         ts = np.arange(view.step, 1.0 - 1e-9, view.step)
         out.shapes, out.factors = path.frames(ts), list(ts)
     if view.trails:
         trail_points(out, path, view, baked)
     return out
+
+
+def frame_ghosts(out, objs, view, frame):
+    """Set out's ghosts of the frames around `frame` (offsets, span, factors, shapes)."""
+    import numpy as np
+    step = view.frame_step
+    out.offsets = [-k * step for k in range(view.frames_before, 0, -1)] + \
+        [k * step for k in range(1, view.frames_after + 1)]
+    out.span = (max(view.frames_before, view.frames_after) + 1) * step
+    out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
+    out.shapes = out.path.frames(out.factors) if out.offsets else np.empty((0, out.path.size, 3))
 
 
 def trail_points(out, path, view, baked):
@@ -216,13 +227,14 @@ def current(context):
         return objs, None, None
     key = request_key(objs, view)
     if _cache["key"] != key:
-        same = _cache["key"] is not None and _cache["key"][:-1] == key[:-1] and _cache["ghosts"]
-        path = _cache["ghosts"].path if same else None  # only the frame changed: same solver
+        previous = _cache["ghosts"] if _cache["key"] is not None and _cache["key"][:-1] == key[:-1] \
+            and _cache["ghosts"].path is not None else None  # only the frame changed
         _cache["key"], _cache["batches"] = key, None
-        for o in objs:
-            _signatures[o.name] = key_signature(o)
+        if previous is None:  # the same keys (the epoch) while only the frame changes
+            for o in objs:
+                _signatures[o.name] = key_signature(o)
         try:
-            _cache["ghosts"] = build(objs, view, key[-1], path)
+            _cache["ghosts"] = build(objs, view, key[-1], previous)
             _cache["batches"] = overlay.batches(_cache["ghosts"])
         except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
             _cache["ghosts"] = Ghosts(error=str(exc))

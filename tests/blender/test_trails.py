@@ -158,7 +158,7 @@ def test_ghosts_of_frames_are_the_inbetweens_the_slider_keyframes_show_there(add
                                                    triangles(obj), ghosts.factors))
     assert np.abs(ghosts.shapes - expected).max() < EXACT * 4
     # the same request at another frame reuses the solver; past the last key the factor stays 1
-    again = onion.build([obj], view, frame=12, path=ghosts.path)
+    again = onion.build([obj], view, frame=12, previous=ghosts)
     assert again.path is ghosts.path and np.allclose(again.factors, [0.7, 0.9, 1.0], atol=1e-6)  # 8, 10, 14
 
 
