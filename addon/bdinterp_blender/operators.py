@@ -4,6 +4,8 @@ Every operator validates and computes before it writes, so a failure (reported a
 changes nothing; each is one undo step.
 """
 
+import threading
+
 import bpy
 from bpy.props import EnumProperty, IntProperty
 
@@ -21,6 +23,34 @@ def settings_for(props, objs=None):
             raise api.BakeError("the error bound measures bdi in-betweens: choose Method bdi")
         settings = settings.but(factors=api.factors_within(objs, settings, props.error_bound))
     return settings
+
+
+class StepThread:
+    """A job's steps (job.step()) on a thread of their own, one at a time, so that the window keeps
+    drawing and Esc is answered while a step computes (the core releases the GIL). A cancelled
+    job's step in flight ends on its own; its frames are dropped."""
+
+    def __init__(self, job):
+        self.job, self.thread, self.error = job, None, None
+
+    def poll(self):
+        """True once every step is done; else starts the next step when none runs. Raises the
+        error of a step that failed."""
+        if self.thread is not None and self.thread.is_alive():
+            return False
+        if self.error is not None:
+            raise self.error
+        if self.job.finished:
+            return True
+        self.thread = threading.Thread(target=self._step, daemon=True)
+        self.thread.start()
+        return False
+
+    def _step(self):
+        try:
+            self.job.step()
+        except (ValueError, RuntimeError) as exc:  # reported by poll() on the main thread
+            self.error = exc
 
 
 class _ObjectOperator:
@@ -64,16 +94,18 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
             wm.progress_end()
 
     def invoke(self, context, event):
-        """From the UI: one chunk of frames per timer event, with progress, Esc cancels."""
+        """From the UI: the chunks of frames on a thread (StepThread), progress per chunk, Esc
+        cancels; the keys are written on the main thread at the end."""
         try:
             objs = selected_meshes(context)
             self._job = api.job_of(objs, settings_for(context.object.bdi, objs))
+            self._steps = StepThread(self._job)
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
         wm = context.window_manager
         wm.progress_begin(0, self._job.total)
-        self._timer = wm.event_timer_add(0.001, window=context.window)
+        self._timer = wm.event_timer_add(0.01, window=context.window)
         wm.modal_handler_add(self)
         return {'RUNNING_MODAL'}
 
@@ -91,8 +123,9 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         if event.type != 'TIMER':
             return {'RUNNING_MODAL'}  # keep the file as it is until the bake is written
         try:
-            context.window_manager.progress_update(self._job.step())
-            if not self._job.finished:
+            done = self._steps.poll()
+            context.window_manager.progress_update(self._job.job.done)
+            if not done:
                 return {'RUNNING_MODAL'}
             message = self._job.finish().message
         except (ValueError, RuntimeError) as exc:

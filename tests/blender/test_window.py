@@ -42,7 +42,8 @@ def test_bake_from_the_ui_cancels_with_esc_and_undoes(addon):
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=240, env=dict(os.environ))
     out = json_lines(proc)[-1]
     assert "error" not in out, out["error"]
-    assert out["invoke"] == ["RUNNING_MODAL"]  # modal: one chunk per timer event
+    assert out["invoke"] == ["RUNNING_MODAL"]  # modal: the chunks computed on a thread
+    assert out["step_threads"] and not any(out["step_threads"])  # the window is never blocked
     assert out["after_cancel"] == ["Basis", "Bend"] and not out["slider_after_cancel"]
     # the wait after Esc (60 ticks) was longer than a whole bake takes: the bake really stopped
     assert out["after_bake"] == 2 + 48 and out["ticks_to_bake"] < 60

@@ -1,5 +1,5 @@
-"""Child script for test_window.py: the Bake operator as the UI runs it (INVOKE: modal, one chunk
-per timer event), once cancelled with Esc and once to the end, in a real window.
+"""Child script for test_window.py: the Bake operator as the UI runs it (INVOKE: modal, the chunks
+on a thread of their own), once cancelled with Esc and once to the end, in a real window.
 
     xvfb-run ... blender --factory-startup --enable-event-simulate --python window_bake.py
 Prints 'JSON:{...}' and quits."""
@@ -35,12 +35,25 @@ def view3d(window):
     return area, next(r for r in area.regions if r.type == 'WINDOW')
 
 
+def record_step_threads():
+    """result['step_threads']: whether each step of the bake ran on the main thread."""
+    import threading
+    from bdinterp_blender import solve
+    step, result["step_threads"] = solve.FrameJob.step, []
+
+    def recorded(job):
+        result["step_threads"].append(threading.current_thread() is threading.main_thread())
+        return step(job)
+    solve.FrameJob.step = recorded
+
+
 def steps():
     import addon_loader
     addon_loader.enable()
     window = bpy.context.window_manager.windows[0]
     area, region = view3d(window)
     obj = strip()
+    record_step_threads()
     bpy.ops.ed.undo_push(message="scene")
     x, y = region.x + region.width // 2, region.y + region.height // 2
     with bpy.context.temp_override(window=window, area=area, region=region):
