@@ -59,8 +59,9 @@ def _load(layer, tmp, index):
     return image
 
 
-def _piece(bd, np, layer, image, params):
+def _piece(bd, layer, image, params):
     """(vertices (n, 3) at depth 0, faces, uvs) of the layer's image (its frame of a sprite sheet)."""
+    import numpy as np
     columns, rows, frame = layer.tiles
     w, h = image.size
     tw, th = w // columns, h // rows
@@ -81,7 +82,6 @@ def _piece(bd, np, layer, image, params):
 
 def _plans(path, scale, params):
     """Per visible layer, bottom first: (name, image, opacity, vertices (n, 3), faces, uvs)."""
-    import numpy as np
     bd = load_core()
     layers = read_painting(path)
     if not layers:
@@ -91,7 +91,7 @@ def _plans(path, scale, params):
         with tempfile.TemporaryDirectory() as tmp:
             for depth, layer in enumerate(layers):
                 images.append(_load(layer, tmp, depth))
-                co, faces, uvs = _piece(bd, np, layer, images[-1], params)
+                co, faces, uvs = _piece(bd, layer, images[-1], params)
                 co *= scale
                 co[:, 1] = -depth * DEPTH
                 plans.append((layer.name, images[-1], layer.opacity, co, faces, uvs))
