@@ -31,7 +31,8 @@ class State:
 
     def __init__(self, settings, inp, solver):
         self.settings, self.inp, self.solver = settings, inp, solver
-        inp.obj = inp.key = inp.source = inp.others = None  # may dangle after undo: keep names only
+        for part in [inp] + list(getattr(inp, "parts", ())):  # may dangle after undo: names only
+            part.obj = part.key = part.source = part.others = None
         self.values = None      # factor / weights last written
         self.dirty = False      # the object's shape keys may have been edited: re-read, compare
         self.members = ()       # a character: its objects' names and matrices (a change rebuilds)
@@ -93,8 +94,6 @@ def prepare_character(objs, settings):
                             "%s's live character" % (other.name, objs[0].name))
     inp = character.CharacterInputs(objs, settings.bake)
     state = State(settings, inp, inp.interpolator() if settings.bake.method == 'bdi' else None)
-    for part in inp.parts:
-        part.obj = part.key = part.source = part.others = None
     state.members = _signature(objs)
     return state
 
