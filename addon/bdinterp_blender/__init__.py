@@ -2,17 +2,20 @@
 
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
-Modules import one way: core (loader) -> names, timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve
-(shapes -> frames, no writes) -> playback, live, distortion, sprite_mesh, baking (each writes one kind of thing) -> character
-(several objects baked as one) -> api (the scripting facade) -> properties, operators -> ui ->
-this file (registration).
+Modules import one way, lower layers only (tests/blender/test_structure.py): core (loader), names
+-> timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve (shapes ->
+frames, no writes) -> playback, distortion, sprite_mesh -> baking, export, layered_import (each
+module of these two layers writes one kind of thing) -> character (several objects baked as one)
+-> live -> api (the scripting facade), motion_trails, drawing_bind -> properties, operators,
+onion -> ui -> this file (registration).
 """
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "timing", "mesh_io", "rig", "settings", "solve", "playback", "live", "distortion",
-                  "baking", "export", "character", "sprite_mesh", "painting_files", "layered_import", "motion_trails", "api",
-                  "properties", "overlay", "onion", "drawing_bind", "operators", "ui"):
+    for _name in ("core", "names", "actions", "overlay", "painting_files", "timing", "mesh_io", "rig",
+                  "settings", "solve", "playback", "distortion", "sprite_mesh", "baking", "export",
+                  "layered_import", "character", "live", "api", "motion_trails", "drawing_bind",
+                  "properties", "operators", "onion", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
