@@ -22,8 +22,10 @@ from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .settings import BakeSettings, anchor_choice
 from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
-__all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live", "show_distortion",
-           "hide_distortion", "bake_for_export", "remove_export_bake", "error_bound_factors", "job_of", "BakeJob", "BakeSettings", "BakeResult", "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
+__all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live",
+           "show_distortion", "hide_distortion", "bake_for_export", "remove_export_bake",
+           "error_bound_factors", "job_of", "BakeJob", "BakeSettings", "BakeResult", "BakeError",
+           "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
 def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
@@ -68,18 +70,20 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     obj: mesh object with shape keys, or a list of them: those that have the target key are
     solved as one cut-out character in world space (pieces of different objects that overlap
     are joined), each written in its own local coordinates, all driven by the slider of the
-    first of them; a failure writes into none of them.  target/source: key names (source default: the reference
-    key).  count: number of evenly timed in-betweens, or factors: explicit list in (0, 1).
+    first of them; a failure writes into none of them.  target/source: key names (source
+    default: the reference key).  count: number of evenly timed in-betweens, or factors:
+    explicit list in (0, 1).
     easing: 'LINEAR', 'EASE_IN', 'EASE_OUT', 'EASE_IN_OUT' or a callable u -> t (custom curve).
     anchor: 'AUTO', a vertex index or a vertex group name (a character: of its first object),
     or (object, vertex index) (a character: of any of its objects); anchor_path: a curve object
     the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  planarity: how far
-    a vertex may lie off its piece's plane, relative to the mesh size.  progress(done, total): called after each chunk of frames;
-    returning False cancels (BakeError, nothing written).  joints: how pieces (loose parts)
-    are joined (docs/JOINTS.md): 'bones' (each piece hangs from the piece of its bone's parent,
-    pinned at the bone's head: an Armature modifier's vertex groups or a parent bone), 'pins'
-    (overlapping pieces that turn about a common point in both keys), 'auto' (bones where every
-    piece has one, else pins; also True) or 'off' (each piece on its own rigid path; also False).
+    a vertex may lie off its piece's plane, relative to the mesh size.  progress(done, total):
+    called after each chunk of frames; returning False cancels (BakeError, nothing written).
+    joints: how pieces (loose parts) are joined (docs/JOINTS.md): 'bones' (each piece hangs from
+    the piece of its bone's parent, pinned at the bone's head: an Armature modifier's vertex
+    groups or a parent bone), 'pins' (overlapping pieces that turn about a common point in both
+    keys), 'auto' (bones where every piece has one, else pins; also True) or 'off' (each piece on
+    its own rigid path; also False).
     threads: the solver's workers, a frame each at a time (0: one per usable core).
 
     Keys are named '<target>.bdi.<percent>' (e.g. 'Arm_up.bdi.050'), hold the in-between shape

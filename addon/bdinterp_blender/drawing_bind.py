@@ -2,12 +2,12 @@
 
 bind_drawing stores, per stroke point, its rest position and radius and the triangle of the
 mesh's rest shape (reference key, world space) that holds it (a character of several objects:
-their triangles one object after the other, so a point goes to whichever piece holds it): barycentric coordinates in the
-mesh's plane (a point outside the mesh: the triangle it is least outside of, by that triangle's
-affine map) and the height above the plane.  A handler of the add-on then writes every point from
-the evaluated mesh (slider, live mode, baked keys, render), the radius scaled with the triangle's
-scale; unbind_drawing writes the rest positions and radii back.  Everything is stored in point
-attributes of the drawings, so a saved file keeps working.
+their triangles one object after the other, so a point goes to whichever piece holds it):
+barycentric coordinates in the mesh's plane (a point outside the mesh: the triangle it is least
+outside of, by that triangle's affine map) and the height above the plane.  A handler of the
+add-on then writes every point from the evaluated mesh (slider, live mode, baked keys, render),
+the radius scaled with the triangle's scale; unbind_drawing writes the rest positions and radii
+back.  Everything is stored in point attributes of the drawings, so a saved file keeps working.
 """
 
 import bpy
