@@ -68,7 +68,7 @@ class CharacterInputs(solve.Inputs):
         self.shapes = self.layered(world, settings.planarity)
         self.joints, self.joint_source = self.find_joints([rig.Member(
             p.obj, int(o), p.source_read, lambda x, obj=p.obj: to_world(obj, x),
-            lambda p=p: p.reference_shape(p.obj)) for p, o in zip(self.parts, self.offsets)])
+            p.reference_shape) for p, o in zip(self.parts, self.offsets)])
 
     def stacked_vertex(self, anchor):
         """The character's vertex index of `anchor`: 'AUTO'/None (None), (object or its name,

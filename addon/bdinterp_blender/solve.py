@@ -54,17 +54,17 @@ class Inputs:
         self.anchor = resolve_anchor(obj, anchor, settings.path_object() if layered else None,
                                      len(self.others))
         self.joints, self.joint_source = self.find_joints([rig.Member(
-            obj, 0, self.source_read, lambda p: p, lambda: self.reference_shape(obj))]) \
+            obj, 0, self.source_read, lambda p: p, self.reference_shape)]) \
             if layered else (False, "")
 
     def find_joints(self, members):
         """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints)."""
         return rig.core_joints(self.joint_mode, members, self.layers.labels)
 
-    def reference_shape(self, obj):
-        """(n, 3) obj's reference key as Blender shows it, in its local coordinates."""
+    def reference_shape(self):
+        """(n, 3) the object's reference key as Blender shows it, in its local coordinates."""
         kb = self.key.reference_key
-        return mesh_io.read_shown(obj, kb, mesh_io.read_raw(kb))
+        return mesh_io.read_shown(self.obj, kb, mesh_io.read_raw(kb))
 
     def layered(self, shapes, tolerance):
         """shapes with every piece put into its plane (mesh_io.project_layers; self.layers: their
