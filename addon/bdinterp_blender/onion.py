@@ -230,7 +230,7 @@ def current(context):
         previous = _cache["ghosts"] if _cache["key"] is not None and _cache["key"][:-1] == key[:-1] \
             and _cache["ghosts"].path is not None else None  # only the frame changed
         _cache["key"], _cache["batches"] = key, None
-        if previous is None:  # the same keys (the epoch) while only the frame changes
+        if previous is None:  # else the epoch is unchanged: the keys are as last hashed
             for o in objs:
                 _signatures[o.name] = key_signature(o)
         try:
