@@ -68,11 +68,11 @@ class Layers:
                 f"= {tolerance * size:.3g})", shape=shape, vertex=worst)
         return depth
 
-    def check(self, shapes, name="layers"):
+    def check(self, shapes):
         """ValueError unless these Layers fit k shapes (n, 3): n labels, one depth row per shape."""
         n, k = len(shapes[0]), len(shapes)
         if len(self.labels) != n or self.depth.shape[0] != k:
-            raise ValueError(f"{name} are of {self.depth.shape[0]} shapes of {len(self.labels)} "
+            raise ValueError(f"layers are of {self.depth.shape[0]} shapes of {len(self.labels)} "
                              f"vertices, not of {k} shapes of {n}")
         return self
 
