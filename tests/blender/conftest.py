@@ -108,6 +108,20 @@ def mesh_object(name, verts, faces):
     return obj
 
 
+def path_object(points, location=(0.0, 0.0, 0.0)):
+    """A poly curve through world `points`, its object at `location` (its points relative to it)."""
+    curve = bpy.data.curves.new("Path", 'CURVE')
+    spline = curve.splines.new('POLY')
+    spline.points.add(len(points) - 1)
+    for p, xyz in zip(spline.points, points):
+        p.co = (*(np.asarray(xyz) - location), 1.0)
+    obj = bpy.data.objects.new("Path", curve)
+    obj.location = location
+    bpy.context.scene.collection.objects.link(obj)
+    bpy.context.view_layer.update()
+    return obj
+
+
 def add_key(obj, name, co, relative=None):
     if obj.data.shape_keys is None:
         obj.shape_key_add(name="Basis", from_mix=False)

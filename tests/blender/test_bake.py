@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from conftest import (TOL, bent_strip, evaluated_co, key_names, maxdiff, ngon_xz, read_key,
-                      text_glyph, triangles, two_pieces, add_key)
+                      path_object, text_glyph, triangles, two_pieces, add_key)
 
 
 def configure(obj, target, **settings):
@@ -125,14 +125,8 @@ def test_anchor_from_selected_vertex(addon):
 
 def test_anchor_follows_path(bd):
     obj = bent_strip()
-    curve = bpy.data.curves.new("Path", 'CURVE')
-    spline = curve.splines.new('POLY')
     pts = [(0.0, 0.0, 0.0), (0.3, 0.5, 0.0), (0.2, 1.0, 0.0)]
-    spline.points.add(len(pts) - 1)
-    for p, xyz in zip(spline.points, pts):
-        p.co = (*xyz, 1.0)
-    path = bpy.data.objects.new("Path", curve)
-    bpy.context.scene.collection.objects.link(path)
+    path = path_object(pts)
     configure(obj, "Bend", count=2, anchor_path=path)
     bpy.ops.bdinterp.bake()
     p = np.array(pts)

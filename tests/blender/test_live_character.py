@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import ROOT, evaluated_co, fcurve
+from conftest import ROOT, evaluated_co, fcurve, path_object
 
 sys.path.insert(0, os.path.join(ROOT, "examples", "cutout"))
 import cutout_blender as cb  # noqa: E402
@@ -162,20 +162,6 @@ def test_a_live_pose_blend_or_a_member_live_on_its_own_is_refused(addon, charact
 def vertex(obj, key, v):
     """Vertex v of obj's key `key` in world coordinates."""
     return cb.world(obj, cb.read(obj, key))[v]
-
-
-def path_object(points, location):
-    """A poly curve through world `points`, its object at `location` (its points relative to it)."""
-    curve = bpy.data.curves.new("Path", 'CURVE')
-    spline = curve.splines.new('POLY')
-    spline.points.add(len(points) - 1)
-    for p, xyz in zip(spline.points, points):
-        p.co = (*(np.asarray(xyz) - location), 1.0)
-    obj = bpy.data.objects.new("Path", curve)
-    obj.location = location
-    bpy.context.scene.collection.objects.link(obj)
-    bpy.context.view_layer.update()
-    return obj
 
 
 def along(points, t):

@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from mathutils import Euler, Matrix, Vector
 
-from conftest import ROOT, bent_strip, read_key, triangles
+from conftest import ROOT, bent_strip, path_object, read_key, triangles
 
 sys.path.insert(0, os.path.join(ROOT, "examples", "cutout"))
 import cutout_blender as cb  # noqa: E402
@@ -171,14 +171,8 @@ def test_the_ghosts_are_rebuilt_when_the_anchor_path_changes(addon, bd):
     view = bpy.context.scene.bdi_view
     view.ghosts, view.trails, view.ghost_source, view.step = True, False, 'FACTORS', 0.5
     free, key = onion.build([obj], view), onion.request_key([obj], view)
-    curve = bpy.data.curves.new("Path", 'CURVE')
-    spline = curve.splines.new('POLY')
     pts = [(0.0, 0.0, 0.0), (1.0, 2.0, 0.0), (0.5, 4.0, 0.0)]
-    spline.points.add(len(pts) - 1)
-    for p, xyz in zip(spline.points, pts):
-        p.co = (*xyz, 1.0)
-    path = bpy.data.objects.new("Path", curve)
-    bpy.context.scene.collection.objects.link(path)
+    path = path_object(pts)
     obj.bdi.anchor_path = path
     assert onion.request_key([obj], view) != key
     along = onion.build([obj], view)
