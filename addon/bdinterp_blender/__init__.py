@@ -12,10 +12,10 @@ onion -> ui -> this file (registration).
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "overlay", "painting_files", "timing", "mesh_io", "rig",
-                  "settings", "solve", "playback", "distortion", "sprite_mesh", "baking", "export",
-                  "layered_import", "character", "live", "api", "motion_trails", "drawing_bind",
-                  "properties", "operators", "onion", "ui"):
+    for _name in ("core", "names", "actions", "overlay", "painting_files", "timing", "mesh_io",
+                  "rig", "settings", "solve", "playback", "distortion", "sprite_mesh", "baking",
+                  "export", "layered_import", "character", "live", "api", "motion_trails",
+                  "drawing_bind", "properties", "operators", "onion", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 

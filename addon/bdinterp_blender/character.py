@@ -27,7 +27,8 @@ def selected_meshes(context, obj=None):
     solves those of them that have the target key (members) as one character."""
     obj = context.object if obj is None else obj
     selected = getattr(context, "selected_objects", None) or ()
-    return [obj] + sorted((o for o in selected if o.type == 'MESH' and o != obj), key=lambda o: o.name)
+    others = (o for o in selected if o.type == 'MESH' and o != obj)
+    return [obj] + sorted(others, key=lambda o: o.name)
 
 
 def members(objects, target):

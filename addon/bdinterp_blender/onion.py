@@ -227,8 +227,8 @@ def current(context):
         return objs, None, None
     key = request_key(objs, view)
     if _cache["key"] != key:
-        previous = _cache["ghosts"] if _cache["key"] is not None and _cache["key"][:-1] == key[:-1] \
-            and _cache["ghosts"].path is not None else None  # only the frame changed
+        only_frame = _cache["key"] is not None and _cache["key"][:-1] == key[:-1]
+        previous = _cache["ghosts"] if only_frame and _cache["ghosts"].path is not None else None
         _cache["key"], _cache["batches"] = key, None
         if previous is None:  # else the epoch is unchanged: the keys are as last hashed
             for o in objs:
