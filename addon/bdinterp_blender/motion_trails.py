@@ -59,7 +59,7 @@ class Path:
         """(len(ts), n, 3) in-betweens at factors ts, world coordinates: one frames() call, each
         frame warm-started from the one before, as the core computes them alone."""
         if self.method != "bdi":
-            return self.world(solve.FrameJob(self.inp, ts, self.method, chunk=len(ts)).frames())
+            return self.world(solve.FrameJob(self.inp, ts, self.method).frames())
         if self.solver is None:
             self.solver = self.inp.interpolator()
         try:

@@ -183,15 +183,14 @@ class FrameJob:
     """The frames of inp at factors ts, computed chunk by chunk (step()), so that a caller can show
     progress and cancel between chunks.  'bdi' goes through Interpolator.frames() (warm-started,
     on `threads` workers, 0 = every usable core; its stats.threads: the threads that ran);
-    'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API.  chunk None:
+    'arap'/'linear' through bdinterp.frames(method=...), the package's one frames API.  A step:
     a frame per worker first, then as many rounds of a frame per worker as fit in STEP_SECONDS (at
-    most frames_per_call); else `chunk` frames a step."""
+    most frames_per_call)."""
 
-    def __init__(self, inp, ts, method="bdi", chunk=None, threads=0):
+    def __init__(self, inp, ts, method="bdi", threads=0):
         self.inp, self.ts, self.method = inp, list(ts), method
         self.workers = workers(threads)
-        self.chunk = max(1, int(frames_per_call(threads) if chunk is None else chunk))
-        self.adaptive, self.next = chunk is None, self.workers if chunk is None else self.chunk
+        self.chunk, self.next = frames_per_call(threads), self.workers
         self.done, self._parts = 0, []
         self._solver = inp.interpolator(threads) if method == "bdi" else None
 
@@ -219,10 +218,9 @@ class FrameJob:
             raise inp.explain(exc) from exc
         self._parts.append(np.asarray(part, dtype=np.float64))
         self.done += len(ts)
-        if self.adaptive:  # a round: a frame on each worker at once
-            per_round = (time.perf_counter() - started) / -(-len(ts) // self.workers)
-            rounds = max(1, int(STEP_SECONDS / max(per_round, 1e-9)))
-            self.next = min(self.chunk, rounds * self.workers)
+        per_round = (time.perf_counter() - started) / -(-len(ts) // self.workers)  # a frame a worker
+        rounds = max(1, int(STEP_SECONDS / max(per_round, 1e-9)))
+        self.next = min(self.chunk, rounds * self.workers)
         return self.done
 
     def frames(self):
