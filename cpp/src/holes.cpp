@@ -47,17 +47,12 @@ FlattenUnknowns hole_unknowns(const Mesh& piece, const std::vector<std::vector<i
   return u;
 }
 
-// One more convex solve added to `into`: counted, its work summed, iterations the most of any one
-// solve (as for pieces and frames), the other state measures the last solve's.
+// One more convex solve added to `into` as merge() adds a piece's, but for the state of the final
+// u: its residual and broken faces are the last solve's.
 void add_solve(FlattenReport& into, const FlattenReport& r) {
-  into.convex_solves += r.convex_solves;
-  into.iterations = std::max(into.iterations, r.iterations);
-  into.line_search_steps += r.line_search_steps;
-  into.factorizations += r.factorizations;
-  into.chord_steps += r.chord_steps;
+  merge(into, r);
   into.residual = r.residual;
   into.broken_triangles = r.broken_triangles;
-  into.max_broken_triangles = std::max(into.max_broken_triangles, r.max_broken_triangles);
 }
 
 }  // namespace
