@@ -177,7 +177,8 @@ class Interpolator {
 
 // (#V) the piece of every vertex as Interpolator splits the mesh (faces joined through shared
 // edges), numbered 0, 1, ... in order of each piece's lowest vertex; a vertex in no face is a piece
-// of its own. Throws InvalidInput for an index outside [0, num_vertices) or a non-manifold mesh.
+// of its own. Throws InvalidInput as the Interpolator does for its mesh: no vertices or no faces, an
+// index outside [0, num_vertices), a face repeating a vertex, a non-manifold mesh.
 Eigen::VectorXi piece_labels(const Faces& F, int num_vertices);
 
 }  // namespace bdinterp
