@@ -218,7 +218,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
   // change slowly along a slider). Each Newton step is taken by the first of kPeriodSteps that
   // applies, and judged by one rule: accepted if it halves the largest period or closes them all
   // (below tolerance * refinement, like the flattening). An accepted step updates the Jacobian and
-  // the sensitivity by Broyden's rule; a rejected one is kept but refreshes them, and ends the loop
+  // the sensitivity by Broyden's rule; a rejected one is kept and refreshes them, or ends the loop
   // if they were fresh (the periods' accuracy, about the flattening's tolerance, is reached).
   bool fresh = false;
   const double aim = options.tolerance * options.refinement;

@@ -84,7 +84,8 @@ class HoleSolver {
   // zero: a cold start), on output the solution (0 on the outer loop, c_k plus the dipole terms
   // along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if the tolerance
   // is not reached. The report counts the convex solves (the first and the closure's), sums their
-  // work (factorizations, ...) and gives the most Newton steps of any one as iterations. The flat squared lengths stay in flat_squared_lengths().
+  // work (factorizations, ...) and gives the most Newton steps of any one as iterations; residual
+  // and broken_triangles are the final u's. The flat squared lengths stay in flat_squared_lengths().
   FlattenReport flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
   // #E flat squared lengths of the last flatten() (valid until the next call).
   const Eigen::VectorXd& flat_squared_lengths() const { return *flat_result_; }

@@ -116,8 +116,7 @@ class Interpolator {
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
   // The sequence is cut into contiguous chunks, one per worker, each on a thread of its own (see
   // InterpolatorOptions::threads); each frame is warm-started from the frames before it in its
-  // chunk. Afterwards last_stats()
-  // merges all frames, with the wall-clock seconds of the whole call.
+  // chunk. Afterwards last_stats() merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
 
