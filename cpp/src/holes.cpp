@@ -197,7 +197,7 @@ bool HoleSolver::try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eige
                           FlattenReport& report) {
   switch (step) {
     case PeriodStep::Linear:
-      return linear_step(flattener_.flat_squared_lengths(), delta, aim, u, next);
+      return linear_step(delta, aim, u, next);
     case PeriodStep::Follow:
       if (!follow(delta, u, options)) return false;
       break;

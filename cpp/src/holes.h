@@ -143,11 +143,10 @@ class HoleSolver {
   // The dipoles' step delta from the solved u by follow_offsets (one linear solve, no convex
   // solve); false, nothing changed, if the Flattener cannot take it (e.g. a move too large).
   bool follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options);
-  // The dipoles' step delta taken to first order from u, whose flat squared lengths are flat
-  // (u += sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat
-  // lengths in flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
-  bool linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
-                   Eigen::VectorXd& next);
+  // The dipoles' step delta taken to first order from the Flattener's solution u (u +=
+  // sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat lengths in
+  // flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
+  bool linear_step(const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u, Eigen::VectorXd& next);
   // The Newton step delta on the dipoles by `step`; false, nothing changed, if it does not apply.
   // next: the periods after it.
   bool try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim,
