@@ -47,17 +47,12 @@ FlattenUnknowns hole_unknowns(const Mesh& piece, const std::vector<std::vector<i
   return u;
 }
 
-// One more convex solve added to `into`: counted, its work summed, iterations the most of any one
-// solve (as for pieces and frames), the other state measures the last solve's.
+// One more convex solve added to `into` as merge() adds a piece's, but for the state of the final
+// u: its residual and broken faces are the last solve's.
 void add_solve(FlattenReport& into, const FlattenReport& r) {
-  into.convex_solves += r.convex_solves;
-  into.iterations = std::max(into.iterations, r.iterations);
-  into.line_search_steps += r.line_search_steps;
-  into.factorizations += r.factorizations;
-  into.chord_steps += r.chord_steps;
+  merge(into, r);
   into.residual = r.residual;
   into.broken_triangles = r.broken_triangles;
-  into.max_broken_triangles = std::max(into.max_broken_triangles, r.max_broken_triangles);
 }
 
 }  // namespace
@@ -202,7 +197,7 @@ bool HoleSolver::try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eige
                           FlattenReport& report) {
   switch (step) {
     case PeriodStep::Linear:
-      return linear_step(flattener_.flat_squared_lengths(), delta, aim, u, next);
+      return linear_step(delta, aim, u, next);
     case PeriodStep::Follow:
       if (!follow(delta, u, options)) return false;
       break;
@@ -223,7 +218,7 @@ const Eigen::VectorXd& HoleSolver::close_periods(const Eigen::VectorXd& l2, Eige
   // change slowly along a slider). Each Newton step is taken by the first of kPeriodSteps that
   // applies, and judged by one rule: accepted if it halves the largest period or closes them all
   // (below tolerance * refinement, like the flattening). An accepted step updates the Jacobian and
-  // the sensitivity by Broyden's rule; a rejected one is kept but refreshes them, and ends the loop
+  // the sensitivity by Broyden's rule; a rejected one is kept and refreshes them, or ends the loop
   // if they were fresh (the periods' accuracy, about the flattening's tolerance, is reached).
   bool fresh = false;
   const double aim = options.tolerance * options.refinement;

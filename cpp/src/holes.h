@@ -84,7 +84,8 @@ class HoleSolver {
   // zero: a cold start), on output the solution (0 on the outer loop, c_k plus the dipole terms
   // along inner loop k). Throws InvalidInput for bad sizes or options, SolverError if the tolerance
   // is not reached. The report counts the convex solves (the first and the closure's), sums their
-  // work (factorizations, ...) and gives the most Newton steps of any one as iterations. The flat squared lengths stay in flat_squared_lengths().
+  // work (factorizations, ...) and gives the most Newton steps of any one as iterations; residual
+  // and broken_triangles are the final u's. The flat squared lengths stay in flat_squared_lengths().
   FlattenReport flatten(const Eigen::VectorXd& l2, Eigen::VectorXd& u, const FlattenOptions& options = {});
   // #E flat squared lengths of the last flatten() (valid until the next call).
   const Eigen::VectorXd& flat_squared_lengths() const { return *flat_result_; }
@@ -142,11 +143,10 @@ class HoleSolver {
   // The dipoles' step delta from the solved u by follow_offsets (one linear solve, no convex
   // solve); false, nothing changed, if the Flattener cannot take it (e.g. a move too large).
   bool follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const FlattenOptions& options);
-  // The dipoles' step delta taken to first order from u, whose flat squared lengths are flat
-  // (u += sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat
-  // lengths in flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
-  bool linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
-                   Eigen::VectorXd& next);
+  // The dipoles' step delta taken to first order from the Flattener's solution u (u +=
+  // sensitivity_ * delta, no convex solve): kept, with its periods in next and its flat lengths in
+  // flat_, if they are finite and below aim; else u, dipole_ and flat_ are unchanged.
+  bool linear_step(const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u, Eigen::VectorXd& next);
   // The Newton step delta on the dipoles by `step`; false, nothing changed, if it does not apply.
   // next: the periods after it.
   bool try_step(PeriodStep step, const Eigen::VectorXd& l2, const Eigen::VectorXd& delta, double aim,

@@ -145,14 +145,13 @@ bool HoleSolver::follow(const Eigen::VectorXd& delta, Eigen::VectorXd& u, const 
   return true;
 }
 
-bool HoleSolver::linear_step(const Eigen::VectorXd& flat, const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u,
-                             Eigen::VectorXd& next) {
+bool HoleSolver::linear_step(const Eigen::VectorXd& delta, double aim, Eigen::VectorXd& u, Eigen::VectorXd& next) {
   // u moves by S delta, free: right up to the step squared and S's error (a few %) times the move,
   // so only for small moves, and kept only if it closes the periods.
   if (sensitivity_age_ >= kLinearSteps) return false;
   move_.noalias() = sensitivity_ * delta;
   if (!(move_.cwiseAbs().maxCoeff() <= kLinearMove)) return false;
-  move_lengths(flat, 1.0);
+  move_lengths(flattener_.flat_squared_lengths(), 1.0);
   next = periods(trial_flat_);
   if (!next.allFinite() || next.cwiseAbs().maxCoeff() > aim) return false;
   ++sensitivity_age_;

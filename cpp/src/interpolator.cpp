@@ -311,7 +311,6 @@ void Interpolator::prepare_workers(int workers) {
 }
 
 Eigen::VectorXi piece_labels(const Faces& F, int num_vertices) {
-  if (num_vertices < 0) throw InvalidInput("piece_labels: num_vertices must be >= 0");
   const Mesh mesh(F, num_vertices);
   std::vector<int> label_of(mesh.num_pieces(), -1);
   Eigen::VectorXi labels(num_vertices);

@@ -105,8 +105,8 @@ class Loop {
  public:
   explicit Loop(long n, double cost = 1.0)
       : n_(n), chunks_(static_cast<int>(std::min<double>(std::max(n, 1L), detail::chunks_for(n * cost)))) {}
-  // The chunks: 1 for a loop not worth splitting, else one per usable core, at most n. Per-chunk
-  // buffers (Partials, PerChunk) are sized by it.
+  // The chunks: 1 for a loop not worth splitting, else one per usable core up to this thread's
+  // ThreadLimit, at most n. Per-chunk buffers (Partials, PerChunk) are sized by it.
   int chunks() const { return chunks_; }
   // body(chunk, i) for every i in [0, n); returns when all have returned.
   template <class Body>

@@ -116,8 +116,7 @@ class Interpolator {
   // Writes frame j (weights (1 - ts[j], ts[j])) into rows [j #V, (j + 1) #V) of out ((#ts #V) by 2).
   // The sequence is cut into contiguous chunks, one per worker, each on a thread of its own (see
   // InterpolatorOptions::threads); each frame is warm-started from the frames before it in its
-  // chunk. Afterwards last_stats()
-  // merges all frames, with the wall-clock seconds of the whole call.
+  // chunk. Afterwards last_stats() merges all frames, with the wall-clock seconds of the whole call.
   void frames(const std::vector<double>& ts, Eigen::Ref<Positions> out);
   void blend_into(const Eigen::VectorXd& w, Eigen::Ref<Positions> out);
 
@@ -177,7 +176,8 @@ class Interpolator {
 
 // (#V) the piece of every vertex as Interpolator splits the mesh (faces joined through shared
 // edges), numbered 0, 1, ... in order of each piece's lowest vertex; a vertex in no face is a piece
-// of its own. Throws InvalidInput for an index outside [0, num_vertices) or a non-manifold mesh.
+// of its own. Throws InvalidInput as the Interpolator does for its mesh: no vertices or no faces, an
+// index outside [0, num_vertices), a face repeating a vertex, a non-manifold mesh.
 Eigen::VectorXi piece_labels(const Faces& F, int num_vertices);
 
 }  // namespace bdinterp

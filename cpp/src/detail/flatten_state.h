@@ -54,7 +54,8 @@ struct Flattener::State {
   detail::RefactorPolicy policy;
   detail::PcgScratch pcg;
   Eigen::VectorXd step, rhs, trial_u;
-  Eigen::VectorXd shifted, move;  // the holes' linear steps: the defects after the offsets (#unknowns + 1), the move (#V)
+  // The holes' linear steps (holes_response.cpp): the defects after the offsets (#unknowns + 1), the move (#V).
+  Eigen::VectorXd shifted, move;
 };
 
 }  // namespace bdinterp

@@ -4,7 +4,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <cstdint>
 #include <vector>
 
 #include "bdinterp/sprite_mesh.h"
