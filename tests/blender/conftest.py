@@ -32,7 +32,7 @@ def addon_zip():
     return zips[-1]
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def addon():
     """Install the built zip with Blender's own installer (isolated user folder) and enable it
     (an extension zip is installed already, by `blender --command extension install-file`)."""
@@ -50,7 +50,7 @@ def addon():
     return module
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def bd(addon):
     """The bdinterp package the add-on uses (the copy vendored in the zip)."""
     return addon.load_core()

@@ -11,14 +11,14 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from bdinterp_tools import meshes  # noqa: E402
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def disk():
     """(V, F): a jittered Delaunay disk of ~400 vertices on the analytic maps' domain."""
     center, radius = meshes.MAP_DOMAIN
     return meshes.disk(400, seed=3, center=center, radius=radius)
 
 
-@pytest.fixture(scope="session")
+@pytest.fixture(scope="package")
 def bar():
     """(V, F, T): a 4 x 0.5 bar and its bend by 250 degrees (the tip turns past 180)."""
     V, F = meshes.rectangle(4.0, 0.5, 600, seed=2)
