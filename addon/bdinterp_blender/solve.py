@@ -192,7 +192,8 @@ class FrameJob:
         self.workers = workers(threads)
         self.chunk, self.next = frames_per_call(threads), self.workers
         self.done, self._parts = 0, []
-        self._solver = inp.interpolator(threads) if method == "bdi" else None
+        # the workers by number: a step's round of a frame per worker runs on all of them
+        self._solver = inp.interpolator(self.workers) if method == "bdi" else None
 
     @property
     def finished(self):

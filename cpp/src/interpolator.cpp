@@ -99,10 +99,12 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
   return std::make_unique<const Joints>(unit, options.base, parts, anchored, given);
 }
 
-// frames()'s workers: `threads` (0: the usable cores), at most one per frame, at least 1.
+// frames()'s workers, at least 1: `threads` asked for, at most one per frame; by default (0) the
+// usable cores, at most one per 4 frames, so that each worker warm-starts along a run of frames
+// and a short sequence continues the history of the calls before it as one worker would.
 int frame_workers(int threads, size_t frames) {
-  const int workers = threads > 0 ? threads : parallel::usable_cores();
-  return static_cast<int>(std::max<size_t>(1, std::min<size_t>(workers, frames)));
+  const size_t most = threads > 0 ? frames : frames / 4;
+  return static_cast<int>(std::max<size_t>(1, std::min<size_t>(threads > 0 ? threads : parallel::usable_cores(), most)));
 }
 
 // body(k) for every worker k in [0, workers), each on a thread of its own (the caller runs k = 0):

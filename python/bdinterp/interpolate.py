@@ -108,7 +108,7 @@ class Interpolator:
     AnchorPath (two shapes). base: the shape the maps start
     from. tol: convergence tolerance on max |2 pi - angle sum| (radians, > 0); max_iterations: Newton
     steps before SolverError (>= 1); threads: cores to use (frames() splits a sequence over them, a
-    single frame its loops; 0 = all cores, 1 = sequential). strict: a frame that fails the
+    single frame its loops; 0 = all cores, frames() at most one per 4 frames; 1 = sequential). strict: a frame that fails the
     self-check (non-finite, broken triangles or a layout that does not close, see FrameStats
     converged/warnings) raises SolverError instead of being returned with stats.converged False.
     folds: inputs with folded faces (folded_faces) are solved without their fold region, which is

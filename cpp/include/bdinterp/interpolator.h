@@ -37,7 +37,8 @@ struct InterpolatorOptions {
   int base = 0;  // which shape is the domain S0 of the maps (paper Sec. 5); any input may be
   // Threads: frames() splits a sequence over this many workers, each on a thread of its own (at
   // most one per frame), and a single frame splits its face loops over up to this many threads
-  // (the usable cores at most). 0 = one per usable core, 1 = sequential; at most kMaxThreads.
+  // (the usable cores at most). 0 = one per usable core (frames(): at most one per 4 frames),
+  // 1 = sequential; at most kMaxThreads.
   int threads = 0;
   // The self-check of every frame: the layout's flatness (see Layout::embed) must be at most
   // max_flatness (a converged frame measures 1e-13 .. 1e-9) and the flattened metric must have no
