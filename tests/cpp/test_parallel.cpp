@@ -228,9 +228,9 @@ TEST(Parallel, LoopsRunOnTheCallerWhileOtherProgramsTakeTheCores) {
 TEST(Parallel, LoopsGoToTheWorkersWhileTheMachineIsIdle) {
   // The other half of the policy: with nothing else taking the cores, a loop's second chunk runs
   // on a worker (independent check: the thread ids). Only loops judged idle before and after count
-  // (the shared CI machine is often busy, and the verdict may turn in the middle); a chunk lasts
-  // 1 ms, several times a sleeping worker's wake-up on a loaded VM, so that the caller, which takes
-  // a chunk nobody has claimed once its own is done, does not take both.
+  // (the shared CI machine is often busy, and the verdict may turn in the middle). A chunk lasts
+  // 1 ms: long enough for a worker that slept through a busy spell, or lost its core a moment, to
+  // claim the second chunk before the caller, done with its own, takes the one nobody claimed.
   if (parallel::usable_cores() < 2) GTEST_SKIP() << "one usable core";
   const parallel::ThreadLimit frame(0);
   int idle = 0, elsewhere = 0;
