@@ -2,8 +2,8 @@
 
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
-Modules import one way, lower layers only (tests/blender/test_structure.py): core (loader), names
--> timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve (shapes ->
+Modules import one way, lower layers only (tests/blender/test_structure.py): core (loader), names,
+changes (the one pair of scene handlers), locate (points in triangles) -> timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve (shapes ->
 frames, no writes) -> playback, distortion, sprite_mesh -> baking, export, layered_import (each
 module of these two layers writes one kind of thing) -> character (several objects baked as one)
 -> live -> api (the scripting facade), motion_trails, drawing_bind -> properties, operators,
@@ -12,7 +12,7 @@ onion -> ui -> this file (registration).
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "overlay", "painting_files", "timing", "mesh_io",
+    for _name in ("core", "names", "changes", "locate", "actions", "overlay", "painting_files", "timing", "mesh_io",
                   "rig", "settings", "solve", "playback", "distortion", "sprite_mesh", "baking",
                   "export", "layered_import", "character", "live", "api", "motion_trails",
                   "drawing_bind", "properties", "operators", "onion", "ui"):

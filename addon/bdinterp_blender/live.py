@@ -1,8 +1,8 @@
 """Live mode: the exact interpolation/blend recomputed whenever its inputs change.
 
-The result goes into the shape key 'bdi.live' (relative to the source, value 1).  Two handlers:
-frame_change_post (playback, `blender -b file.blend -a`, scrubbing) and depsgraph_update_post
-(the factor or a weight changed directly, by a driver, by an F-curve edit; undo).  Per object a
+The result goes into the shape key 'bdi.live' (relative to the source, value 1), on every frame
+change (playback, `blender -b file.blend -a`, scrubbing) and depsgraph update (the factor or a
+weight changed directly, by a driver, by an F-curve edit; undo), both told by changes.py.  Per object a
 State caches the validated shapes and the precomputed Interpolator; a frame then costs the
 solve, a comparison of the factor/weights with the last ones written, and the foreach_set.  The
 cache is rebuilt when a setting changes and re-checked (the input keys re-read and compared)
@@ -17,7 +17,7 @@ from contextlib import contextmanager
 import bpy
 from bpy.app.handlers import persistent
 
-from . import character, mesh_io, solve
+from . import changes, character, mesh_io, solve
 from .mesh_io import BakeError
 from .names import LIVE_KEY, LIVE_WARNING
 from .settings import from_props
@@ -211,6 +211,7 @@ def write_key(obj, source, co):
         kb.value = 1.0
     mesh_io.write_co(kb, co)
     key.update_tag()
+    changes.wrote(key)
 
 
 def turn_off(obj, exc):
@@ -279,30 +280,15 @@ def _keys_edited(obj, state, edited):
                and o.data.shape_keys.name in edited for o in _objects(obj, state))
 
 
-def _edited_keys(depsgraph):
-    return {u.id.original.name for u in depsgraph.updates
-            if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
-
-
-@persistent
-def on_frame_change(scene, depsgraph=None):
-    edited = _edited_keys(depsgraph) if depsgraph is not None else set()
+def on_changes(scene, depsgraph, changed):
+    """Every frame change and depsgraph update (changes.py): recompute what changed."""
     for obj in _live_objects(scene):
         state = _states.get(obj.name)
-        if state is not None and _keys_edited(obj, state, edited):
-            state.dirty = True  # writes made in this handler are not reported: this one is not ours
-        _safe_update(obj, depsgraph)
-
-
-@persistent
-def on_depsgraph_update(scene, depsgraph):
-    edited = _edited_keys(depsgraph)
-    for obj in _live_objects(scene):
-        state = _states.get(obj.name)
-        if state is not None and _keys_edited(obj, state, edited):
-            # Our own write of the live key is reported here too, indistinguishable from an edit
-            # made by a script before this evaluation: re-check (the input keys' foreach_get,
-            # ~0.7 ms per key at 20k vertices) rather than trust a flag.
+        if state is not None and _keys_edited(obj, state, changed.keys):
+            # Our own write of the live key is reported too (at the next update), and an edit
+            # made by a script before this evaluation looks the same: re-check (the input keys'
+            # foreach_get, ~0.7 ms per key at 20k vertices) rather than trust a flag.  Writes
+            # made on a frame change (playback) are not reported: playback never pays for it.
             state.dirty = True
         _safe_update(obj, depsgraph)
 
@@ -321,9 +307,7 @@ def on_load(*_args):
             print("bdinterp: %s in scene %s %s" % (obj.name, scene.name, LIVE_WARNING))
 
 
-HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
-            (bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
+HANDLERS = ((bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
             (bpy.app.handlers.load_post, on_load))
 
 
@@ -334,9 +318,11 @@ def register():
                   and getattr(h, "__module__", "") == fn.__module__]:
             handlers.remove(h)
         handlers.append(fn)
+    changes.subscribe(0, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     for handlers, fn in HANDLERS:
         if fn in handlers:
             handlers.remove(fn)

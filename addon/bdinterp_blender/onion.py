@@ -1,21 +1,24 @@
 """Onion skins and motion trails of the in-betweens in the 3D viewport (settings: Scene.bdi_view).
 
-What is drawn is computed once (Ghosts: world coordinates of the ghost shapes, the trails, the
-ticks at the baked keys) and kept in GPU batches (overlay.py); a redraw compares a cheap request
-key (objects, settings, transforms, an epoch bumped when the input or baked keys' data change)
-and only recolours.  The depsgraph handler re-reads key data only when Blender reports a shape key
-edited, so playback and live mode never pay for it.
+What is drawn is computed once (Ghosts: the ghost shapes, the trails, the ticks at the baked keys,
+in the drawn object's coordinates) and kept in GPU batches (overlay.py), drawn with the object's
+matrix: moving it moves them.  A redraw after a change compares a cheap request key (objects,
+settings, topology, an epoch bumped when the input or baked keys' data change) and only
+recolours; a changed view setting solves only factors not solved before (the Path keeps its
+frames).  Key data are re-read only when Blender reports a drawn object's shape keys edited by
+someone else than the add-on (changes.py tells live mode's writes apart), so playback and live
+mode never pay for it.
 """
 
 import hashlib
 import time
-from collections import deque
+from collections import Counter, deque
 
 import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty
 
-from . import motion_trails, mesh_io
+from . import changes, motion_trails, mesh_io
 from .names import LIVE_KEY, SEP
 
 
@@ -64,11 +67,13 @@ class BDI_ViewProps(bpy.types.PropertyGroup):
 
 
 class Ghosts:
-    """Everything the overlay draws, world coordinates: shapes (j, n, 3) at factors (j,), faces
-    (m, 3), outline edges (e, 2), trails (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider
-    (owner object name, property) whose value is the current factor; an error message; the
-    motion_trails.Path solved (kept while only the frame changes).  Ghosts of frames have
-    `offsets` (j,) in frames from the current one and `span` (their tint fades over it)."""
+    """Everything the overlay draws, in the coordinates the Path solves in (`matrix`: the drawn
+    object's world matrix for one object, read when drawn; None for a character, solved in world
+    coordinates): shapes (j, n, 3) at factors (j,), faces (m, 3), outline edges (e, 2), trails
+    (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider (owner object name, property) whose
+    value is the current factor; an error message; the motion_trails.Path solved.  Ghosts of
+    frames have `offsets` (j,) in frames from the current one and `span` (their tint fades over
+    it)."""
 
     def __init__(self, **kw):
         import numpy as np
@@ -77,6 +82,14 @@ class Ghosts:
         self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
         self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
         self.__dict__.update(kw)
+
+    def in_world(self, points):
+        """points (..., 3) of these Ghosts in world coordinates, as drawn now."""
+        return self.path.world(points) if self.path is not None else points
+
+    def matrix(self):
+        """The model matrix the ghosts are drawn with (None: identity)."""
+        return self.path.objs[0].matrix_world if self.path is not None and self.path.local else None
 
 
 def drawn_objects(context):
@@ -119,19 +132,15 @@ def selected_vertices(objs):
     return np.concatenate(out)
 
 
-def build(objs, view, frame=None, previous=None):
+def build(objs, view, frame=None, path=None):
     """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
-    scene's `frame`; `previous`: the Ghosts of the same request at another frame, whose Path,
-    outline and trails are reused (only the ghosts of frames move with the frame)."""
+    scene's `frame`; `path`: the motion_trails.Path of the same objects and settings, if one was
+    made already (the frames it solved are not solved again)."""
     import numpy as np
-    if previous is not None:
-        out = Ghosts(**previous.__dict__)
-        frame_ghosts(out, objs, view, frame)
-        return out
-    solve_needed = view.trails or view.ghost_source != 'BAKED'
-    path = motion_trails.Path(objs, with_solver=solve_needed)
+    if path is None:
+        path = motion_trails.Path(objs, with_solver=view.trails or view.ghost_source != 'BAKED')
     out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
-    baked, names = path.baked()
+    baked, names = path.baked_solved()
     if path.found is not None:
         out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
     if view.ghosts and view.ghost_source == 'BAKED':
@@ -143,7 +152,7 @@ def build(objs, view, frame=None, previous=None):
         frame_ghosts(out, objs, view, frame)
     elif view.ghosts:
         ts = np.arange(view.step, 1.0 - 1e-9, view.step)
-        out.shapes, out.factors = path.frames(ts), list(ts)
+        out.shapes, out.factors = path.solved(ts), list(ts)
     if view.trails:
         trail_points(out, path, view, baked)
     return out
@@ -157,7 +166,7 @@ def frame_ghosts(out, objs, view, frame):
         [k * step for k in range(1, view.frames_after + 1)]
     out.span = (max(view.frames_before, view.frames_after) + 1) * step
     out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
-    out.shapes = out.path.frames(out.factors) if out.offsets else np.empty((0, out.path.size, 3))
+    out.shapes = out.path.solved(out.factors) if out.offsets else np.empty((0, out.path.size, 3))
 
 
 def trail_points(out, path, view, baked):
@@ -169,7 +178,7 @@ def trail_points(out, path, view, baked):
         if not len(v):
             raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
     v = path.vertices(v)
-    out.trails = path.frames(np.linspace(0.0, 1.0, view.samples))[:, v]
+    out.trails = path.solved(np.linspace(0.0, 1.0, view.samples))[:, v]
     out.ticks = baked[:, v]
     out.chords = out.trails[[0, -1]]
 
@@ -191,30 +200,52 @@ def factor_at(objs, slider, frame=None):
     return min(1.0, max(0.0, curve.evaluate(frame) if curve is not None else value))
 
 
+def solve_key(objs):
+    """What a Path depends on, cheap to compare: the objects, their settings and topology (vertex,
+    face and loop counts), the epoch (bumped when their keys' data change) and, for a character
+    (solved in world coordinates), the objects' transforms.  One object's transform is not in
+    it: its ghosts are drawn with its matrix."""
+    return (tuple(o.name for o in objs), motion_trails.settings_of(objs[0].bdi), _epoch[0],
+            tuple((len(o.data.vertices), len(o.data.polygons), len(o.data.loops)) for o in objs),
+            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs) if len(objs) > 1 else ())
+
+
 def request_key(objs, view):
-    """What the Ghosts depend on, cheap enough to compare whenever a handler invalidated the
-    Plan: the Path's settings, the view's; last: the frame (for ghosts of frames; else None)."""
-    props = objs[0].bdi
-    settings = (motion_trails.settings_of(props), props.live_mode, view.ghosts, view.ghost_source,
-                view.step, view.trails, view.trail_vertices, view.samples, view.frames_before,
-                view.frames_after, view.frame_step)
+    """What the Ghosts depend on: the Path's (solve_key), the view's settings but colours, the
+    selection the trails follow; last: the frame (for ghosts of frames; else None)."""
+    selected = ()
+    if view.trails and view.trail_vertices == 'SELECTED':
+        selected = selected_vertices(objs).tobytes()
+    settings = (objs[0].bdi.live_mode, view.ghosts, view.ghost_source, view.step, view.trails,
+                view.trail_vertices, view.samples, view.frames_before, view.frames_after,
+                view.frame_step, selected)
     frame = bpy.context.scene.frame_current if view.ghosts and view.ghost_source == 'FRAMES' else None
-    return (tuple(o.name for o in objs), settings, _epoch[0],
-            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs), frame)
+    return (solve_key(objs), settings, frame)
 
 
+# Work done, for the tests: 'hashed' keys' data read to see if they changed, 'built' Ghosts,
+# 'batches' GPU batch sets made, 'plans' overlay Plans made.
+counters = Counter()
 _epoch = [0]        # bumped when the data of a drawn object's keys change
-_signatures = {}    # object name -> hash of its keys' data (but the live key)
+_signatures = {}    # object name -> hash of the keys its Path reads, and of its topology
 _cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
 
 
-def key_signature(obj):
-    key = obj.data.shape_keys
-    h = hashlib.sha1()
-    for kb in key.key_blocks if key else ():
-        if kb.name != LIVE_KEY:
-            h.update(kb.name.encode())
-            h.update(mesh_io.read_raw(kb).tobytes())
+def key_signature(obj, path):
+    """A hash of what obj's keys give the Path: the data of the keys it reads (input, reference,
+    relative and baked keys, never the live key) and the mesh's faces."""
+    import numpy as np
+    counters["hashed"] += 1
+    key, h = obj.data.shape_keys, hashlib.sha1()
+    names = set(path.inp.names) | set(path.found.keys if path.found is not None else ())
+    blocks = [kb for kb in key.key_blocks if kb.name in names] if key else []
+    blocks += [kb.relative_key for kb in blocks] + ([key.reference_key] if key else [])
+    for kb in dict.fromkeys(b for b in blocks if b.name != LIVE_KEY):
+        h.update(kb.name.encode() + kb.vertex_group.encode())
+        h.update(mesh_io.read_raw(kb).tobytes())
+    loops = np.empty(len(obj.data.loops), dtype=np.int32)
+    obj.data.loops.foreach_get("vertex_index", loops)
+    h.update(loops.tobytes())
     return h.hexdigest()
 
 
@@ -227,15 +258,18 @@ def current(context):
         return objs, None, None
     key = request_key(objs, view)
     if _cache["key"] != key:
-        only_frame = _cache["key"] is not None and _cache["key"][:-1] == key[:-1]
-        previous = _cache["ghosts"] if only_frame and _cache["ghosts"].path is not None else None
+        old = _cache["ghosts"]
+        same = old is not None and _cache["key"] is not None and _cache["key"][0] == key[0]
+        path = old.path if same else None
         _cache["key"], _cache["batches"] = key, None
-        if previous is None:  # else the epoch is unchanged: the keys are as last hashed
-            for o in objs:
-                _signatures[o.name] = key_signature(o)
         try:
-            _cache["ghosts"] = build(objs, view, key[-1], previous)
+            _cache["ghosts"] = build(objs, view, key[-1], path)
+            if path is None:  # a new Path: what its keys hold now
+                for o in _cache["ghosts"].path.objs:
+                    _signatures[o.name] = key_signature(o, _cache["ghosts"].path)
+            counters["built"] += 1
             _cache["batches"] = overlay.batches(_cache["ghosts"])
+            counters["batches"] += 1
         except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
             _cache["ghosts"] = Ghosts(error=str(exc))
     return objs, _cache["ghosts"], _cache["batches"]
@@ -259,7 +293,9 @@ def plan(context):
     objs, ghosts, batches = current(context)
     if batches is None:
         return False
-    return overlay.Plan(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts))
+    counters["plans"] += 1
+    return overlay.Plan(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts),
+                        ghosts.matrix())
 
 
 # Seconds of the last redraws that drew something (rebuilds included), for the benchmark.
@@ -280,21 +316,22 @@ def draw_callback():
         timings.append(time.perf_counter() - started)
 
 
-@persistent
-def on_depsgraph_update(scene, depsgraph):
-    """Anything updated: the next redraw checks the request; a drawn object's keys edited (not the
-    live key alone): bump the epoch, so that it rebuilds."""
+def on_changes(_scene, _depsgraph, changed):
+    """Every update (changes.py): the next redraw checks the request; the keys of a drawn object
+    edited by someone else than the add-on (its live key's writes are known and skipped) and
+    holding other data than the Path read: bump the epoch, so that the Path is made again."""
     invalidate()
-    names = _cache["key"][0] if _cache["key"] else ()
-    for update in depsgraph.updates:
-        obj_id = update.id.original
-        if isinstance(obj_id, bpy.types.Key) and update.is_updated_geometry:
-            for name in names:
-                obj = bpy.data.objects.get(name)
-                if obj is not None and obj.data.shape_keys == obj_id \
-                        and _signatures.get(name) != key_signature(obj):
-                    _epoch[0] += 1
-                    return
+    ghosts = _cache["ghosts"]
+    edited = changed.edited_keys()
+    if ghosts is None or ghosts.path is None or not edited:
+        return
+    for name in _cache["key"][0][0]:
+        obj = bpy.data.objects.get(name)
+        key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
+        if key is not None and key.name in edited \
+                and _signatures.get(obj.name) != key_signature(obj, ghosts.path):
+            _epoch[0] += 1
+            return
 
 
 @persistent
@@ -304,9 +341,8 @@ def on_load(*_args):
 
 
 _handle = []
-HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.frame_change_post, invalidate),
-            (bpy.app.handlers.undo_post, invalidate), (bpy.app.handlers.redo_post, invalidate),
+# After an undo the keys may hold anything and the Path's objects are gone: start afresh.
+HANDLERS = ((bpy.app.handlers.undo_post, on_load), (bpy.app.handlers.redo_post, on_load),
             (bpy.app.handlers.load_post, on_load))
 
 
@@ -316,9 +352,11 @@ def register():
     _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
     for handlers, fn in HANDLERS:
         handlers.append(fn)
+    changes.subscribe(2, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     for handle in _handle:
         bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
     _handle.clear()

@@ -6,7 +6,7 @@ ancestor bone that has one, pinned at the head of the bone below that ancestor, 
 (reads bpy data, never writes it; docs/JOINTS.md).
 """
 
-from .mesh_io import BakeError
+from .mesh_io import BakeError, group_weights
 
 MODES = ("auto", "bones", "pins", "off")
 
@@ -54,7 +54,7 @@ def piece_bones(members, labels):
     import numpy as np
     out, arm = [], None
     for m in members:
-        weights = _group_weights(m.obj)
+        weights = group_weights(m.obj)[0]
         local = labels[m.offset:m.offset + len(m.source)]
         for p in np.unique(local):
             rows = np.flatnonzero(local == p)
@@ -68,16 +68,6 @@ def piece_bones(members, labels):
             arm = found[0]
             out.append((found[1], m, rows))
     return arm, out
-
-
-def _group_weights(obj):
-    """(n, groups) vertex-group weights of obj's mesh (vertex groups have no foreach access)."""
-    import numpy as np
-    W = np.zeros((len(obj.data.vertices), max(1, len(obj.vertex_groups))))
-    for v in obj.data.vertices:
-        for g in v.groups:
-            W[v.index, g.group] = g.weight
-    return W
 
 
 def _bone_of(obj, weights, rows):

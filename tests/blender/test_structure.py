@@ -6,7 +6,7 @@ import os
 
 from conftest import ROOT
 
-LAYERS = [["core", "names", "actions", "overlay", "painting_files"], ["timing", "mesh_io"], ["rig"], ["settings"], ["solve"],
+LAYERS = [["core", "names", "changes", "locate", "actions", "overlay", "painting_files"], ["timing", "mesh_io"], ["rig"], ["settings"], ["solve"],
           ["playback", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
           ["live"], ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
           ["ui"], ["__init__"]]
