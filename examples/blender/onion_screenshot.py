@@ -140,7 +140,7 @@ def redraw_seconds(iterations):
 
 def steps(addon, out):
     """Generator driven by a timer: each yield lets Blender draw once."""
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
     objs = scene(addon)
     window, area, region = view3d()
     area.spaces.active.overlay.show_floor = False
@@ -181,7 +181,7 @@ def steps(addon, out):
 def redraws_after_changes(obj, view, redraws):
     """Median seconds of the overlay's draw callback in a redraw right after the object moved, a
     colour changed, or (live mode) the live factor changed: what those changes cost the overlay."""
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
 
     def median(change):
         onion.timings.clear()

@@ -32,7 +32,7 @@ def gp_object(points):
 
 
 def positions(gp_obj):
-    from bdinterp_blender import drawing_bind
+    from bdinterp_blender.view import drawing_bind
     return np.concatenate([drawing_bind.read(d, "position", 3) for d in drawing_bind.drawings(gp_obj)])
 
 
@@ -47,7 +47,7 @@ def expected(gp_obj, objs):
     """Each point as the barycentric image of its stored triangle in the meshes as evaluated, at
     its stored height along the triangle's normal (a stroke drawn in front of its piece stays
     there)."""
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     d = db.drawings(gp_obj)[0]
     tri, bary = db.read(d, db.TRI, 1), db.read(d, db.BARY, 3).astype(float)
     X, tris = shown(objs)
@@ -60,7 +60,7 @@ def expected(gp_obj, objs):
 def pieces_bound(gp_obj, objs):
     """The name of the object whose triangle holds each point, and the smallest barycentric
     coordinate of each (>= 0: inside that triangle)."""
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     d = db.drawings(gp_obj)[0]
     ends = np.cumsum([len(triangles(o)) for o in objs])
     which = np.searchsorted(ends, db.read(d, db.TRI, 1), side="right")
@@ -116,7 +116,7 @@ def test_strokes_on_the_head_and_arm_follow_the_mesh(addon, tmp_path, kind):
             assert np.abs(positions(gp_obj) - drawn).max() < 1e-6 * size
     moved = np.abs(positions(gp_obj) - drawn).max()
     assert moved > 0.05 * size  # the arm raised: its strokes went with it
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     radius = db.read(db.drawings(gp_obj)[0], "radius", 1)
     assert np.abs(radius - 0.01).max() < 1e-6  # rigid pieces: every triangle keeps its scale
     slider_owner[cb.TARGET + ".bdi"] = 0.0
@@ -170,7 +170,7 @@ def test_points_are_located_in_the_triangle_that_holds_them(addon):
     """The grid of buckets finds, for a point inside the mesh, a triangle holding it (the one
     testing every triangle finds); a point beside the mesh gets a nearby triangle whose affine map
     gives it back; the point's place is its barycentric image plus its height."""
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     X, tris = jittered_grid(24)
     rng = np.random.default_rng(7)
     inside = np.column_stack([rng.uniform(0.01, 0.99, (300, 2)), np.zeros(300)])
@@ -194,7 +194,7 @@ def test_locating_is_linear_in_points_and_triangles(addon):
     """10k points on a 20k-triangle mesh: far less than the 2e8 point-triangle tests of checking
     each pair (which took seconds)."""
     import time
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     X, tris = jittered_grid(100)  # 20000 triangles
     rng = np.random.default_rng(3)
     P = np.column_stack([rng.uniform(0, 1, (10000, 2)), np.zeros(10000)])
@@ -222,7 +222,7 @@ def stroke_without_radius(points):
 @pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
 def test_a_drawing_without_radius_binds_and_follows(addon):
     from conftest import bent_strip
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=3)
     X = cb.world(obj, cb.read(obj, "Basis"))
@@ -245,7 +245,7 @@ def test_a_drawing_without_radius_binds_and_follows(addon):
 def test_a_topology_edit_unbinds_with_a_warning_and_binding_again_works(addon):
     import bmesh
     from conftest import bent_strip
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=3)
     X = cb.world(obj, cb.read(obj, "Basis"))
@@ -281,7 +281,7 @@ def test_an_update_reads_the_binding_once_and_locates_nothing(addon):
     binding's attributes once; a bound drawing of 10k points follows in a few milliseconds."""
     import time
     from conftest import bent_strip
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=3)
     X = cb.world(obj, cb.read(obj, "Basis"))

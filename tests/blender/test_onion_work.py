@@ -15,7 +15,7 @@ from conftest import bent_strip, read_key
 @pytest.fixture
 def overlay_work(addon, monkeypatch):
     """(onion, plan(): the overlay.Plan a redraw would make now, work(): the counters as a dict)."""
-    from bdinterp_blender import motion_trails, onion, overlay
+    from bdinterp_blender.view import motion_trails, onion, overlay
 
     def batches(ghosts):  # one stand-in per batch a GPU would hold
         return {"fills": list(range(len(ghosts.shapes))), "outlines": list(range(len(ghosts.shapes))),

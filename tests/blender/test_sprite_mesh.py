@@ -95,7 +95,7 @@ def test_panel_and_menu(addon):
 def test_the_dialog_meshes_once_per_changed_setting(addon):
     """The dialog's draw() runs on every redraw: the triangle count it shows is meshed once per
     request, and Apply uses that mesh (no third run); a changed setting meshes again."""
-    from bdinterp_blender import sprite_mesh
+    from bdinterp_blender.files import sprite_mesh
     obj = image_plane("Ring", "ring", (0, 0, 0))
     params = dict(threshold=0.5, spacing=None, detail=1.0, padding=1.0, min_angle=25.0)
     before = sprite_mesh.counters["meshed"]

@@ -20,10 +20,10 @@ from collections import Counter
 import bpy
 from bpy.app.handlers import persistent
 
-from . import changes
-from .character import members, to_local, to_world
+from .. import changes
+from ..bake.character import members, to_local, to_world
+from ..shapes.mesh_io import BakeError, triangles
 from .locate import locate_2d, plane_basis
-from .mesh_io import BakeError, triangles
 
 BOUND = "bdi_bound_to"        # custom property of the Grease Pencil object: the mesh objects' names
 TOPOLOGY = "bdi_bound_faces"  # ... and the faces they had when bound ('vertices:loops:crc' each)
@@ -94,7 +94,7 @@ def mesh_faces(mesh_objs):
 def rest_mesh(mesh_objs):
     """(world vertices (n, 3) of the objects' reference keys one after the other, triangles)."""
     import numpy as np
-    from .mesh_io import read_co
+    from ..shapes.mesh_io import read_co
     faces, _ = mesh_faces(mesh_objs)
     return np.concatenate([to_world(o, read_co(o.data.shape_keys.reference_key)) for o in mesh_objs]), faces
 

@@ -7,9 +7,10 @@ Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this 
 
 from collections import Counter
 
-from . import character, mesh_io, playback, solve
-from .mesh_io import BakeError
-from .settings import BakeSettings, from_props
+from ..bake import character, playback
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
+from ..shapes.settings import BakeSettings, from_props
 
 # Work done, for the tests: 'paths' validated (the solver built), 'solved' frames computed.
 counters = Counter()

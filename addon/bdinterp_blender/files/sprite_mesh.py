@@ -6,7 +6,7 @@ from collections import Counter
 
 import bpy
 
-from .core import load_core
+from ..core import load_core
 
 # Work done, for the tests: 'meshed' images (calls of the core's mesher).
 counters = Counter()
