@@ -182,8 +182,9 @@ def test_points_are_located_in_the_triangle_that_holds_them(addon):
     C = X[tris[tri]]
     pos, scale = db.place(C, bary, height, np.linalg.norm(np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0]), axis=1))
     assert np.abs(pos - P).max() < 1e-12 and np.abs(scale - 1).max() < 1e-12
-    basis = np.array([[1.0, 0.0], [0.0, 1.0], [0.0, 0.0]])  # the plane is z = 0.3 x: x, y go through
-    expected = brute_force(P[:300, :2], (X @ basis)[tris])
+    normal = np.array([-0.3, 0.0, 1.0]) / np.linalg.norm([-0.3, 0.0, 1.0])  # the plane z = 0.3 x
+    on_plane = P - np.outer(P @ normal, normal)  # along the normal into it; then x, y go through
+    expected = brute_force(on_plane[:300, :2], X[tris][:, :, :2])
     assert (expected >= -1e-12).all()
     got = np.min(bary[:300], axis=1)
     assert (got >= -1e-9).all() and np.abs(got - expected).max() < 1e-9
