@@ -220,21 +220,32 @@ def stroke_without_radius(points):
     return obj, drawing
 
 
-@pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
-def test_a_drawing_without_radius_binds_and_follows(addon):
+def baked_strip_and_drawing(addon, every):
+    """(a baked bent strip, a script's drawing on every `every`-th vertex, its drawing, where its
+    points were drawn)."""
     from conftest import bent_strip
-    from bdinterp_blender.view import drawing_bind as db
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=3)
     X = cb.world(obj, cb.read(obj, "Basis"))
-    gp_obj, drawing = stroke_without_radius(X[::7] * 0.98 + X.mean(axis=0) * 0.02)
-    default = drawing.strokes[0].points[0].radius  # what Blender shows without the attribute
-    drawn = positions(gp_obj).copy()
-    assert addon.bind_drawing(gp_obj, obj) == len(drawn)
-    assert np.allclose(db.read(drawing, db.RADIUS, 1), default)
-    obj["Bend.bdi"] = 1.0
+    gp_obj, drawing = stroke_without_radius(X[::every] * 0.98 + X.mean(axis=0) * 0.02)
+    return obj, gp_obj, drawing, positions(gp_obj).copy()
+
+
+def show(obj, factor):
+    """The strip's slider at `factor`, the scene updated (the handlers run)."""
+    obj["Bend.bdi"] = factor
     obj.update_tag()
     bpy.context.view_layer.update()
+
+
+@pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
+def test_a_drawing_without_radius_binds_and_follows(addon):
+    from bdinterp_blender.view import drawing_bind as db
+    obj, gp_obj, drawing, drawn = baked_strip_and_drawing(addon, 7)
+    default = drawing.strokes[0].points[0].radius  # what Blender shows without the attribute
+    assert addon.bind_drawing(gp_obj, obj) == len(drawn)
+    assert np.allclose(db.read(drawing, db.RADIUS, 1), default)
+    show(obj, 1.0)
     assert np.abs(positions(gp_obj) - expected(gp_obj, [obj])).max() < 1e-6
     assert np.abs(positions(gp_obj) - drawn).max() > 0.1
     addon.unbind_drawing(gp_obj)
@@ -245,17 +256,10 @@ def test_a_drawing_without_radius_binds_and_follows(addon):
 @pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
 def test_a_topology_edit_unbinds_with_a_warning_and_binding_again_works(addon):
     import bmesh
-    from conftest import bent_strip
     from bdinterp_blender.view import drawing_bind as db
-    obj = bent_strip()
-    addon.bake(obj, target="Bend", count=3)
-    X = cb.world(obj, cb.read(obj, "Basis"))
-    gp_obj, _ = stroke_without_radius(X[::5] * 0.98 + X.mean(axis=0) * 0.02)
-    drawn = positions(gp_obj).copy()
+    obj, gp_obj, _, drawn = baked_strip_and_drawing(addon, 5)
     addon.bind_drawing(gp_obj, obj)
-    obj["Bend.bdi"] = 0.5
-    obj.update_tag()
-    bpy.context.view_layer.update()
+    show(obj, 0.5)
     assert np.abs(positions(gp_obj) - drawn).max() > 0.05
     bm = bmesh.new()  # a user's edit: the last face deleted (its vertices too)
     bm.from_mesh(obj.data)
@@ -266,9 +270,7 @@ def test_a_topology_edit_unbinds_with_a_warning_and_binding_again_works(addon):
     bpy.context.view_layer.update()  # the handler: no error, the drawing unbound
     assert db.BOUND not in gp_obj and "faces of Strip changed" in gp_obj[db.WARNING]
     assert np.array_equal(positions(gp_obj), drawn)  # every point back where it was drawn
-    obj["Bend.bdi"] = 1.0
-    obj.update_tag()
-    bpy.context.view_layer.update()
+    show(obj, 1.0)
     assert np.array_equal(positions(gp_obj), drawn)
     addon.bind_drawing(gp_obj, obj)  # bound again to the edited mesh: follows it
     assert db.WARNING not in gp_obj
@@ -295,9 +297,7 @@ def test_an_update_reads_the_binding_once_and_locates_nothing(addon):
     depsgraph = bpy.context.evaluated_depsgraph_get()
     times = []
     for s in np.linspace(0.0, 1.0, 21):
-        obj["Bend.bdi"] = float(s)
-        obj.update_tag()
-        bpy.context.view_layer.update()
+        show(obj, float(s))
         started = time.perf_counter()
         db.update(gp_obj, depsgraph, check_faces=False)
         times.append(time.perf_counter() - started)

@@ -1,13 +1,11 @@
 """Onion skins and motion trails of the in-betweens in the 3D viewport (settings: Scene.bdi_view).
 
-What is drawn is computed once (Ghosts: the ghost shapes, the trails, the ticks at the baked keys,
-in the drawn object's coordinates) and kept in GPU batches (overlay.py), drawn with the object's
-matrix: moving it moves them.  A redraw after a change compares a cheap request key (objects,
-settings, topology, an epoch bumped when the input or baked keys' data change) and only
-recolours; a changed view setting solves only factors not solved before (the Path keeps its
-frames).  Key data are re-read only when Blender reports a drawn object's shape keys edited by
-someone else than the add-on (changes.py tells live mode's writes apart), so playback and live
-mode never pay for it.
+What is drawn (Ghosts: ghost shapes, trails, ticks at the baked keys, in the drawn object's
+coordinates) is computed once, kept in GPU batches (overlay.py) and drawn with the object's
+matrix.  A redraw after a change compares a cheap request key (objects, settings, topology, an
+epoch bumped when the keys' data change) and only recolours; a new view setting solves only
+factors the Path has not solved.  Key data are re-read only when a drawn object's keys are
+reported edited by someone else than the add-on (changes.py), never on playback or live frames.
 """
 
 import hashlib
@@ -225,9 +223,7 @@ def request_key(objs, view):
     return (solve_key(objs), settings, frame)
 
 
-# Work done, for the tests: 'hashed' keys' data read to see if they changed, 'built' Ghosts,
-# 'batches' GPU batch sets made, 'plans' overlay Plans made.
-counters = Counter()
+counters = Counter()  # for the tests: keys' data 'hashed', Ghosts 'built', 'batches', 'plans' made
 _epoch = [0]        # bumped when the data of a drawn object's keys change
 _signatures = {}    # object name -> hash of the keys its Path reads, and of its topology
 _cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
