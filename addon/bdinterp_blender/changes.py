@@ -2,7 +2,7 @@
 drawings bound to meshes, the onion-skin overlay).
 
 Each depsgraph update and frame change is read once into a Changes record (did the frame move;
-which shape-key datablocks, meshes and object transforms the depsgraph reports updated) and
+which shape-key datablocks, object transforms and shapes the depsgraph reports updated) and
 passed to the subscribers in their order: live mode writes its keys first, then the drawings
 follow the meshes, then the overlay decides what to rebuild.  The add-on's own writes of a
 shape key (live mode's key, reported by the depsgraph at the next update) are told apart, so
@@ -16,15 +16,14 @@ from bpy.app.handlers import persistent
 class Changes:
     """What one update changed: `frame` (a frame change), `keys` (names of the Key datablocks
     whose data or values changed), `own` (those of them the add-on wrote itself since the last
-    update and nobody else is known to have touched), `meshes` (names of Mesh datablocks
-    updated), `moved` and `shaped` (names of objects whose transform, whose evaluated geometry
-    changed)."""
+    update and nobody else is known to have touched), `moved` and `shaped` (names of objects
+    whose transform, whose evaluated geometry changed)."""
 
-    __slots__ = ("frame", "keys", "own", "meshes", "moved", "shaped")
+    __slots__ = ("frame", "keys", "own", "moved", "shaped")
 
-    def __init__(self, frame=False, keys=(), own=(), meshes=(), moved=(), shaped=()):
+    def __init__(self, frame=False, keys=(), own=(), moved=(), shaped=()):
         self.frame, self.keys, self.own = frame, set(keys), set(own)
-        self.meshes, self.moved, self.shaped = set(meshes), set(moved), set(shaped)
+        self.moved, self.shaped = set(moved), set(shaped)
 
     def edited_keys(self):
         """The Key datablocks changed by someone other than the add-on's own writes."""
@@ -42,13 +41,11 @@ def wrote(key):
 
 def read(depsgraph, frame):
     """The Changes of one update (depsgraph None: nothing reported but the frame)."""
-    keys, meshes, moved, shaped = set(), set(), set(), set()
+    keys, moved, shaped = set(), set(), set()
     for update in depsgraph.updates if depsgraph is not None else ():
         data = update.id.original
         if isinstance(data, bpy.types.Key) and update.is_updated_geometry:
             keys.add(data.name)
-        elif isinstance(data, bpy.types.Mesh) and update.is_updated_geometry:
-            meshes.add(data.name)
         elif isinstance(data, bpy.types.Object):
             if update.is_updated_transform:
                 moved.add(data.name)
@@ -56,7 +53,7 @@ def read(depsgraph, frame):
                 shaped.add(data.name)
     own = keys & _written
     _written.clear()  # writes made by the subscribers below are reported at the next update
-    return Changes(frame, keys, own, meshes, moved, shaped)
+    return Changes(frame, keys, own, moved, shaped)
 
 
 def dispatch(scene, depsgraph, frame):

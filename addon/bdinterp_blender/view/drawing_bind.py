@@ -149,8 +149,8 @@ def place(C, bary, height, rest_area):
 def bind_drawing(gp_obj, mesh_obj):
     """Bind every stroke point of gp_obj (all layers and frames) to the rest shape of mesh_obj,
     a mesh object or a list of them (a character: each point to the nearest triangle of any of
-    them); from then on the strokes follow wherever the mesh is shown.  Returns the number of
-    points."""
+    them); from then on (at once) the strokes follow wherever the mesh is shown.  Returns the
+    number of points."""
     import numpy as np
     reason = why_not(gp_obj)
     if reason:
@@ -185,6 +185,7 @@ def bind_drawing(gp_obj, mesh_obj):
     if WARNING in gp_obj:
         del gp_obj[WARNING]
     _bindings.pop(gp_obj.name, None)
+    update(gp_obj, bpy.context.evaluated_depsgraph_get())  # on the mesh as shown now
     return count
 
 
@@ -227,6 +228,7 @@ class Binding:
 
 
 _bindings = {}   # Grease Pencil object name -> Binding
+_edited = set()  # Grease Pencil objects whose meshes were seen in Edit Mode: faces compared next
 
 
 def binding(gp_obj, objs):
@@ -251,16 +253,20 @@ def changed_faces(gp_obj, objs, full=True):
     return ""
 
 
-def update(gp_obj, depsgraph, check_faces=True):
+def update(gp_obj, depsgraph):
     """Write gp_obj's bound points from its meshes as evaluated; False if it is not bound (any
-    more): one of its meshes is gone, or (check_faces) its faces changed (then unbound, with a
-    warning)."""
+    more): one of its meshes is gone, or its faces changed (then unbound, with a warning).  The
+    faces themselves are compared (a loop per face corner read: ~10 ms at 30k corners) after Edit
+    Mode and when the binding is read; else only the numbers of vertices and corners."""
     objs = bound_meshes(gp_obj)
     if objs is None:
         return False
     if any(o.mode == 'EDIT' for o in objs):  # its faces are known again when Edit Mode ends
+        _edited.add(gp_obj.name)
         return True
-    reason = changed_faces(gp_obj, objs, full=check_faces or gp_obj.name not in _bindings)
+    full = gp_obj.name in _edited or gp_obj.name not in _bindings
+    _edited.discard(gp_obj.name)
+    reason = changed_faces(gp_obj, objs, full)
     X = shown_mesh(objs, depsgraph) if not reason else None
     if X is None:
         warn_unbound(gp_obj, reason or "a modifier of one of %s adds or removes vertices"
@@ -289,15 +295,15 @@ def on_changes(scene, depsgraph, changed):
         if obj.type != 'GREASEPENCIL' or BOUND not in obj:
             continue
         names = set(obj.get(BOUND, []))
-        meshes = {bpy.data.objects[n].data.name for n in names if n in bpy.data.objects}
         if changed.frame or obj.name in changed.moved or names & (changed.moved | changed.shaped):
-            update(obj, depsgraph, check_faces=bool(meshes & changed.meshes))
+            update(obj, depsgraph)
 
 
 @persistent
 def forget(*_args):
     """After undo or loading a file the drawings are other objects: read them again."""
     _bindings.clear()
+    _edited.clear()
 
 
 def chosen_meshes(context):
