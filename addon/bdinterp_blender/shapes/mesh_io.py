@@ -45,8 +45,8 @@ def group_weights(obj):
     """(weights (n, groups), member (n, groups) bool) of obj's vertex groups: the weight of each
     vertex in each group, and whether it is in the group at all (a member may weigh 0).  Vertex
     groups have no foreach access: one pass streams every (vertex, group, weight) into one numpy
-    array (no list of tuples kept: building one set off Python's garbage collector over Blender's
-    objects and took twice as long), numpy puts the weights in place."""
+    array (collecting them in a list of tuples first took twice as long), numpy puts the weights
+    in place."""
     import numpy as np
     from itertools import chain
     vertices = obj.data.vertices
