@@ -327,3 +327,23 @@ def test_an_edit_mode_change_that_keeps_every_count_unbinds_too(addon):
     show(obj, 0.6)
     assert db.BOUND not in gp_obj and "faces of Strip changed" in gp_obj[db.WARNING]
     assert np.array_equal(positions(gp_obj), drawn)
+
+
+@pytest.mark.skipif(not V3, reason="Grease Pencil v3 is Blender 4.3+")
+def test_an_error_while_following_unbinds_once(addon, monkeypatch):
+    """Whatever goes wrong in the handler (here: the evaluated mesh cannot be read), the drawing
+    is unbound with the error in its warning, and the next updates do nothing."""
+    from bdinterp_blender.view import drawing_bind as db
+    obj, gp_obj, _, drawn = baked_strip_and_drawing(addon, 5)
+    addon.bind_drawing(gp_obj, obj)
+    calls = []
+
+    def broken(*args):
+        calls.append(args)
+        raise MemoryError("no memory for the shown mesh")
+    monkeypatch.setattr(db, "shown_mesh", broken)
+    show(obj, 0.5)
+    assert db.BOUND not in gp_obj and "MemoryError: no memory for the shown mesh" in gp_obj[db.WARNING]
+    assert np.array_equal(positions(gp_obj), drawn)
+    show(obj, 0.7)
+    assert len(calls) == 1

@@ -296,7 +296,10 @@ def on_changes(scene, depsgraph, changed):
             continue
         names = set(obj.get(BOUND, []))
         if changed.frame or obj.name in changed.moved or names & (changed.moved | changed.shaped):
-            update(obj, depsgraph)
+            try:
+                update(obj, depsgraph)
+            except Exception as exc:  # noqa: BLE001 -- unbound once, never an error on every update
+                warn_unbound(obj, "%s: %s" % (type(exc).__name__, exc))
 
 
 @persistent
