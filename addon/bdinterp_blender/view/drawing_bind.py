@@ -21,7 +21,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .. import changes
-from ..bake.character import members, to_local, to_world
+from ..keys.character import members, to_local, to_world
 from ..shapes.mesh_io import BakeError, triangles
 from .locate import locate_2d, plane_basis
 

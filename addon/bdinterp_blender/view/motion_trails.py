@@ -7,7 +7,7 @@ Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this 
 
 from collections import Counter
 
-from ..bake import character, playback
+from ..keys import character, playback
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..shapes.settings import BakeSettings, from_props
