@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "bdinterp/types.h"
 #include "flatten/lobachevsky.h"
 
 namespace bdinterp {
