@@ -4,9 +4,9 @@
 
 #include <Eigen/Dense>
 
-#include "piece_solver.h"
+#include "pipeline/piece_solver.h"
 #include "bdinterp/interpolator.h"
-#include "metric_blend.h"
+#include "blend/metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
