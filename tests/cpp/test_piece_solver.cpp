@@ -1,4 +1,4 @@
-// The Interpolator's stages: a piece solved by its kind (disk or holed; cpp/src/piece_solver.h) and
+// The Interpolator's stages: a piece solved by its kind (disk or holed; cpp/src/pipeline/piece_solver.h) and
 // frames() on the pool (contiguous chunks, errors of any chunk raised on the caller).
 #include <gtest/gtest.h>
 
