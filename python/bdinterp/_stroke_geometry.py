@@ -1,0 +1,155 @@
+"""Geometry behind bdinterp.strokes: arc-length correspondence, the band around a stroke, and
+where two strokes meet.  2D arrays throughout (the caller maps 3D strokes into their plane)."""
+import numpy as np
+
+# A band this many times narrower than the spacing of its points is given up on: its triangles
+# would be too thin for the flattening to measure their angles.
+MIN_BAND = 1e-3
+SHRINKS = 10        # halvings of the band's width tried before a stroke is called folded
+
+
+def arc_fractions(points):
+    """Cumulative arc length of a polyline as a fraction of its length, (n,)."""
+    s = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    return s / s[-1]
+
+
+def sample(points, fractions, u):
+    """The polyline (and any per-point values in the same rows) at arc-length fractions u."""
+    flat = points.reshape(len(points), -1)
+    out = np.empty((len(u), flat.shape[1]))
+    for c in range(flat.shape[1]):
+        out[:, c] = np.interp(u, fractions, flat[:, c])
+    return out.reshape((len(u),) + points.shape[1:])
+
+
+def correspondence(pa, pb):
+    """Arc-length fractions (u_a, u_b) at which two strokes are paired point by point: their own
+    points when the counts agree and no point repeats (the keys then stay exactly as drawn), else
+    the fractions of the stroke with more points (repeated points dropped), for both."""
+    fa, fb = arc_fractions(pa), arc_fractions(pb)
+    if len(pa) == len(pb) and np.all(np.diff(fa) > 0) and np.all(np.diff(fb) > 0):
+        return None
+    u = np.unique(fa if len(pa) >= len(pb) else fb)
+    return u, fa, fb
+
+
+def _unit(v):
+    n = np.linalg.norm(v, axis=-1, keepdims=True)
+    return v / np.where(n > 0, n, 1.0)
+
+
+def tangents(points):
+    """Unit tangent per point: the mean of the directions of its segments (one at the ends)."""
+    d = _unit(np.diff(points, axis=0))
+    t = np.empty_like(points)
+    t[0], t[-1] = d[0], d[-1]
+    t[1:-1] = d[:-1] + d[1:]
+    turned_back = np.linalg.norm(t[1:-1], axis=1) < 1e-12
+    t[1:-1][turned_back] = d[:-1][turned_back]
+    return _unit(t)
+
+
+def band_faces(m, offset):
+    """Triangles of the band of an m-point stroke whose vertices start at offset: centre row
+    C_i = offset + i, left row L_i = offset + m + i, right row R_i = offset + 2m + i, start tip
+    offset + 3m, end tip offset + 3m + 1.  Counter-clockwise for a band built by band_vertices."""
+    i = np.arange(m - 1)
+    C, L, R = offset + i, offset + m + i, offset + 2 * m + i
+    strip = np.concatenate([np.stack([R, R + 1, C + 1], 1), np.stack([R, C + 1, C], 1),
+                            np.stack([C, C + 1, L + 1], 1), np.stack([C, L + 1, L], 1)])
+    s, e, last = offset + 3 * m, offset + 3 * m + 1, m - 1
+    caps = np.array([[s, offset + 2 * m, offset], [s, offset, offset + m],
+                     [offset + 2 * m + last, e, offset + last], [offset + last, e, offset + m + last]])
+    return np.concatenate([strip, caps])
+
+
+def band_vertices(points, half_width):
+    """The band's vertices (3m + 2, 2): the stroke itself (so the in-between's centreline is read
+    back exactly), its offsets by half_width to the left and right, and a tip beyond each end (so
+    the ends are inside the band, where a joint at a stroke's end can hold it)."""
+    t = tangents(points)
+    n = np.stack([-t[:, 1], t[:, 0]], axis=1)
+    return np.concatenate([points, points + half_width * n, points - half_width * n,
+                           [points[0] - half_width * t[0], points[-1] + half_width * t[-1]]])
+
+
+def _signed_areas(X, faces):
+    a, b, c = X[faces[:, 0]], X[faces[:, 1]], X[faces[:, 2]]
+    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+
+
+def fit_band(pa, pb):
+    """(half width, vertices in key a, vertices in key b, faces) of one band for the stroke pair
+    (pa, pb) of m points each: as wide as a quarter of the shorter key's mean spacing, halved until
+    no triangle folds in either key.  ValueError when none fits (the stroke turns back sharply)."""
+    m = len(pa)
+    spacing = min(np.linalg.norm(np.diff(p, axis=0), axis=1).mean() for p in (pa, pb))
+    faces = band_faces(m, 0)
+    h = 0.25 * spacing
+    for _ in range(SHRINKS):
+        va, vb = band_vertices(pa, h), band_vertices(pb, h)
+        floor = 1e-12 * h * spacing
+        bad = [np.flatnonzero(_signed_areas(v, faces) <= floor) for v in (va, vb)]
+        if not len(bad[0]) and not len(bad[1]):
+            return h, va, vb, faces
+        h *= 0.5
+    key = 0 if len(bad[0]) else 1
+    point = int(min(faces[bad[key][0]] % m))
+    raise ValueError(f"key {'ab'[key]}: the stroke turns back on itself near point {point} "
+                     f"(its band folds even {2 ** SHRINKS} times narrower)")
+
+
+def segment_distances(a0, a1, b0, b1):
+    """Per row: distance between segments a0-a1 and b0-b1 (k, 2) and the fractions (s, u) along
+    each of their closest points."""
+    da, db, r = a1 - a0, b1 - b0, b0 - a0
+    cross = lambda p, q: p[:, 0] * q[:, 1] - p[:, 1] * q[:, 0]  # noqa: E731
+    den = cross(da, db)
+    ok = np.abs(den) > 1e-300
+    s = np.where(ok, cross(r, db) / np.where(ok, den, 1.0), -1.0)
+    u = np.where(ok, cross(r, da) / np.where(ok, den, 1.0), -1.0)
+    crossing = (s >= 0) & (s <= 1) & (u >= 0) & (u <= 1)
+    best = np.full(len(a0), np.inf)
+    bs, bu = np.where(crossing, s, 0.0), np.where(crossing, u, 0.0)
+    best[crossing] = 0.0
+    for p, q0, dq, on_a in ((a0, b0, db, True), (a1, b0, db, True), (b0, a0, da, False),
+                            (b1, a0, da, False)):
+        f = np.clip(np.einsum("ij,ij->i", p - q0, dq) / np.maximum(np.einsum("ij,ij->i", dq, dq), 1e-300), 0, 1)
+        d = np.linalg.norm(q0 + f[:, None] * dq - p, axis=1)
+        better = d < best
+        best[better] = d[better]
+        end = 0.0 if p is a0 or p is b0 else 1.0
+        bs[better] = end if on_a else f[better]
+        bu[better] = f[better] if on_a else end
+    return best, bs, bu
+
+
+def near_segments(points, tolerance):
+    """Candidate pairs (i, j) of segments of different strokes that may lie within tolerance of
+    each other: a uniform grid as fine as the longest segment plus tolerance, neighbouring cells.
+    points: list of (m_k, 2) polylines.  Returns (pairs (p, 2) of global segment indices, owner
+    stroke of every segment, first segment of every stroke)."""
+    a = np.concatenate([p[:-1] for p in points])
+    b = np.concatenate([p[1:] for p in points])
+    owner = np.repeat(np.arange(len(points)), [len(p) - 1 for p in points])
+    first = np.concatenate([[0], np.cumsum([len(p) - 1 for p in points])])
+    cell = max(float(np.linalg.norm(b - a, axis=1).max()), 1e-300) + tolerance
+    ij = np.floor((a + b) / (2 * cell)).astype(np.int64)
+    ij -= ij.min(axis=0)
+    width = int(ij[:, 1].max()) + 3
+    key = ij[:, 0] * width + ij[:, 1]
+    order = np.argsort(key, kind="stable")
+    sorted_key = key[order]
+    pairs = []
+    for dx, dy in ((0, 0), (1, -1), (1, 0), (1, 1), (0, 1)):   # each neighbouring pair of cells once
+        target = key + dx * width + dy
+        lo, hi = np.searchsorted(sorted_key, target, "left"), np.searchsorted(sorted_key, target, "right")
+        count = hi - lo
+        i = np.repeat(np.arange(len(key)), count)
+        j = order[np.repeat(lo - np.cumsum(count) + count, count) + np.arange(count.sum())]
+        i, j = i[owner[i] != owner[j]], j[owner[i] != owner[j]]
+        swap = owner[i] > owner[j]
+        pairs.append(np.stack([np.where(swap, j, i), np.where(swap, i, j)], 1))
+    pairs = np.unique(np.concatenate(pairs), axis=0) if pairs else np.empty((0, 2), np.int64)
+    return pairs, owner, first
