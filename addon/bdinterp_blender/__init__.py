@@ -18,6 +18,10 @@ if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submod
                   "drawing_bind", "properties", "operators", "onion", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
+    import sys as _sys
+    for _name in ("strokes.drawing", "strokes.ops"):  # a subpackage: its modules by their full names
+        if __name__ + "." + _name in _sys.modules:
+            importlib.reload(_sys.modules[__name__ + "." + _name])
 
 bl_info = {
     "name": "bdinterp: Bounded-Distortion In-betweens",
@@ -46,11 +50,12 @@ from .sprite_mesh import mesh_from_image  # noqa: E402
 from .layered_import import import_layered  # noqa: E402
 from .motion_trails import trails  # noqa: E402
 from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
+from .strokes.drawing import interpolate_drawing  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing"]
+           "bind_drawing", "unbind_drawing", "interpolate_drawing"]
 
 _modules = []
 
@@ -66,7 +71,9 @@ def register():
         _modules = [ui.degraded]
     else:
         from . import properties, onion, drawing_bind, operators, live as live_mod, sprite_mesh, layered_import
-        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
+        from .strokes import ops as strokes_ops
+        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
+                    strokes_ops]
     for mod in _modules:
         mod.register()
 

@@ -9,7 +9,8 @@ band's centre row.  A stroke that is a rigid motion of its partner therefore mov
 one bends with the method's bounded distortion.  Strokes that meet (touch or cross within
 `touch`) at the same points of both keys are joined there by the core's joints: a tree from the
 stroke that turns least, each child hanging from its parent at the meeting point
-(docs/JOINTS.md, given joints).  Every other per-point value (radius, opacity, colour) is blended
+(docs/JOINTS.md, given joints).  A stroke's end that is at the same place in both keys (a tail's
+root, a shoulder) hangs likewise from a still triangle there, so it stays.  Every other per-point value (radius, opacity, colour) is blended
 linearly; so is the distance of 3D points from the strokes' plane.
 """
 from collections import deque
@@ -125,7 +126,8 @@ class StrokeInterpolator:
     Plane of 3D strokes (None: fitted); touch: how close (in the shapes' units) two strokes must
     come in both keys, at the same points of each, to be joined there (None: 1e-3 of the first
     key's size); joints: False, every stroke on its own path (for comparison); threads as
-    Interpolator's; where, keys: how errors name the drawing and its keys.
+    Interpolator's; where, keys: how errors name the drawing and its keys.  Attributes: joints
+    [(parent stroke, child stroke, point)], still [(stroke, point)] (ends kept in place), size.
     """
 
     def __init__(self, strokes_a, strokes_b, *, plane=None, touch=None, joints=True, threads=0,
@@ -148,8 +150,18 @@ class StrokeInterpolator:
         allpts = np.concatenate(ca)
         self.size = float(np.linalg.norm(allpts.max(axis=0) - allpts.min(axis=0)))
         self.touch = TOUCH * self.size if touch is None else float(touch)
-        self.joints = self._tree(geo_meetings(ca, cb, self.touch)) if joints else []
-        links = [(self._offsets[p], self._offsets[c], point) for p, c, point in self.joints]
+        n = len(self._pairs)
+        ends = still_ends(ca, cb, self.touch)
+        tree = self._tree(geo_meetings(ca, cb, self.touch) + [(n + g, k, p) for g, (k, p) in enumerate(ends)]) \
+            if joints else []
+        self.joints = [j for j in tree if j[0] < n]
+        self.still = [(c, point) for p, c, point in tree if p >= n]
+        ground = {}   # a still triangle at each still end, which the stroke hangs from
+        for c, point in self.still:
+            tri = point + 1e-3 * self.size * np.array([[-1.0, -1.0], [1.0, -1.0], [0.0, 1.0]])
+            xa.append(tri), xb.append(tri), faces.append(np.array([[0, 1, 2]]) + offset)
+            ground[c], offset = offset, offset + 3
+        links = [(self._offsets[p] if p < n else ground[c], self._offsets[c], point) for p, c, point in tree]
         self._interp = Interpolator([np.concatenate(xa), np.concatenate(xb)], np.concatenate(faces),
                                     joints=links or False, threads=threads)
 
@@ -176,14 +188,16 @@ class StrokeInterpolator:
         return out
 
     def _tree(self, meetings):
-        """Joints (parent stroke, child stroke, point in key a) of a spanning forest of the
-        meetings, each tree rooted at its stroke that turns least between the keys (so that no
-        stroke is carried the long way round by one that turns more)."""
+        """Joints (parent, child stroke, point in key a) of a spanning forest of the meetings
+        (parents numbered from len(pairs) are still ends), each tree rooted at a still end, else at
+        its stroke that turns least between the keys (so that no stroke is carried the long way
+        round by one that turns more)."""
         near = {}
         for i, j, point in meetings:
             near.setdefault(i, []).append((j, point))
             near.setdefault(j, []).append((i, point))
-        turns = {k: abs(_turn(self._pairs[k]["a"], self._pairs[k]["b"])) for k in near}
+        turns = {k: abs(_turn(self._pairs[k]["a"], self._pairs[k]["b"])) if k < len(self._pairs) else -1.0
+                 for k in near}
         seen, out = set(), []
         for root in sorted(near, key=lambda k: (turns[k], k)):
             if root in seen:
@@ -249,6 +263,13 @@ def geo_meetings(ca, cb, touch):
         point = 0.5 * (at(0, i[k:k + 1], s[k:k + 1])[0] + at(0, j[k:k + 1], u[k:k + 1])[0])
         out.append((si, sj, point))
     return out
+
+
+def still_ends(ca, cb, touch):
+    """(stroke, point in key a) for every end of a stroke that is at the same place (within touch)
+    in both keys: a tail's root, an arm's shoulder, which the in-betweens keep there."""
+    return [(k, a[e]) for k, (a, b) in enumerate(zip(ca, cb)) for e in (0, -1)
+            if np.linalg.norm(a[e] - b[e]) <= touch]
 
 
 def interpolate_strokes(strokes_a, strokes_b, ts, **options):

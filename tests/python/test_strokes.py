@@ -93,6 +93,18 @@ def test_touching_strokes_stay_together_where_they_meet():
     assert max(gaps([s.points for s in apart.at(0.5)])) > 0.05 * si.size
 
 
+def test_an_end_that_stays_in_both_keys_stays_in_every_inbetween():
+    gentle, curled = arc(4.0, -40, 40), turn(arc(4.0, 300, 40), 10)     # a tail's root at the origin
+    si = StrokeInterpolator([gentle], [curled])
+    assert len(si.still) == 1 and si.joints == []
+    for (s,) in si.frames(TS):
+        assert np.linalg.norm(s.points[0]) <= 1e-9 * si.size
+        assert s.length >= min(segments(gentle).sum(), segments(curled).sum()) - 1e-9
+    # on its own path (the method's anchor, the centroid) the root leaves the body
+    (alone,) = StrokeInterpolator([gentle], [curled], joints=False).at(0.5)
+    assert np.linalg.norm(alone.points[0]) > 0.1 * si.size
+
+
 def test_crossing_strokes_are_joined_where_they_cross():
     bar = arc(3.0, 0, 13, start=(-1.5, 0.0))
     cross = turn(arc(2.0, 0, 9, start=(-1.0, 0.0)), 90)            # crosses the bar at its middle

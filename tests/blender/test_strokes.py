@@ -1,0 +1,147 @@
+"""Grease Pencil in-betweens by bdinterp (Blender 4.3+): a script-drawn arm of three strokes swinging
+by 120 degrees at the shoulder and 60 more at the elbow (examples/strokes/drawn.py, the second key
+drawn with other point counts) keeps every stroke's length, turns the upper arm rigidly, keeps the
+elbow and wrist closed and blends radius and opacity; the keys stay as drawn; the operator is one
+undo step; a stroke-count mismatch is refused with nothing changed.  Blender's own Interpolate
+Sequence on the same arm is measured for comparison."""
+
+import json
+import os
+import sys
+
+import bpy
+import numpy as np
+import pytest
+
+from conftest import ROOT
+
+sys.path.insert(0, os.path.join(ROOT, "examples", "strokes"))
+import drawn  # noqa: E402
+import gp_strokes as gps  # noqa: E402
+
+V3 = bpy.app.version >= (4, 3, 0)
+needs_v3 = pytest.mark.skipif(not V3, reason="Grease Pencil v3 (Blender 4.3+)")
+FRAMES = (1, 13)
+MIDDLE = 7
+
+
+def arm(name="Arm"):
+    return gps.gp_object(name, {FRAMES[0]: drawn.arm_key(0), FRAMES[1]: drawn.arm_key(1)})
+
+
+def size(obj):
+    pts = np.concatenate([s["points"] for f in FRAMES for s in gps.strokes_at(obj, f)])
+    return float(np.linalg.norm(pts.max(axis=0) - pts.min(axis=0)))
+
+
+def snapshot(obj):
+    layer = obj.data.layers[0]
+    return [(f.frame_number, [(s["points"].tobytes(), s["radius"].tobytes(), s["opacity"].tobytes())
+                              for s in gps.strokes_at(obj, f.frame_number)]) for f in layer.frames]
+
+
+@needs_v3
+def test_arm_inbetweens_keep_their_shape(addon):
+    obj = arm()
+    before, scale = snapshot(obj), size(obj)
+    assert addon.interpolate_drawing(obj, *FRAMES, count=3) == [4, 7, 10]
+    layer = obj.data.layers["Arm"]
+    kinds = {f.frame_number: f.keyframe_type for f in layer.frames}
+    assert kinds == {1: 'KEYFRAME', 4: 'BREAKDOWN', 7: 'BREAKDOWN', 10: 'BREAKDOWN', 13: 'KEYFRAME'}
+    keys = [gps.strokes_at(obj, f) for f in FRAMES]
+    report = {}
+    for frame in (4, 7, 10):
+        t = (frame - 1) / 12.0
+        strokes = gps.strokes_at(obj, frame)
+        assert len(strokes) == 3
+        for k, s in enumerate(strokes):
+            length = drawn.length(s["points"])
+            for key in keys:
+                assert abs(length - drawn.length(key[k]["points"])) <= 0.01 * drawn.length(key[k]["points"])
+            # both keys are drawn with evenly spaced points: the pairs sit at even arc fractions
+            u = np.linspace(0.0, 1.0, len(s["points"]))
+            np.testing.assert_allclose(s["radius"], (1 - t) * (0.02 + 0.03 * u) + t * 0.03, atol=1e-6)
+            np.testing.assert_allclose(s["opacity"], 1 - 0.5 * t, atol=1e-6)
+        elbow = np.linalg.norm(strokes[0]["points"][-1] - strokes[1]["points"][0])
+        wrist = np.linalg.norm(strokes[1]["points"][-1] - strokes[2]["points"][0])
+        assert max(elbow, wrist) <= 1e-3 * scale
+        report[frame] = {"elbow": elbow / scale, "wrist": wrist / scale,
+                         "length_kept": [drawn.length(s["points"]) / drawn.length(key["points"])
+                                         for s, key in zip(strokes, keys[0])]}
+    # half way the upper arm is the first key's turned rigidly by 60 degrees about the shoulder
+    upper = gps.strokes_at(obj, MIDDLE)[0]["points"]
+    rigid = gps.xz(drawn.turn(drawn.arc((0, 0), -90, 2.0, 0, len(upper)), drawn.SHOULDER_TURN / 2))
+    report["upper_arm_off_rigid"] = float(np.abs(upper - rigid).max()) / scale
+    assert report["upper_arm_off_rigid"] <= 0.02
+    assert snapshot(obj)[0] == before[0] and snapshot(obj)[-1] == before[-1]   # the keys as drawn
+    print("JSON:" + json.dumps({"bdinterp_arm": report}))
+
+
+@needs_v3
+def test_a_tail_curling_up_keeps_its_length(addon):
+    obj = gps.gp_object("Tail", {FRAMES[0]: drawn.tail_key(0), FRAMES[1]: drawn.tail_key(1)})
+    addon.interpolate_drawing(obj, *FRAMES, count=3)
+    key = drawn.length(gps.strokes_at(obj, 1)[0]["points"])
+    kept = [drawn.length(gps.strokes_at(obj, f)[0]["points"]) / key for f in (4, 7, 10)]
+    assert all(abs(k - 1) <= 0.01 for k in kept)
+    print("JSON:" + json.dumps({"bdinterp_tail": kept}))
+
+
+@needs_v3
+def test_the_operator_is_one_undo_step(addon):
+    obj = arm()
+    bpy.context.view_layer.objects.active = obj
+    bpy.context.scene.frame_set(5)
+    bpy.ops.ed.undo_push(message="before interpolating")
+    before = snapshot(obj)
+    # As from the UI: EXEC with an undo push (scripts' bpy.ops calls push none by default).
+    assert bpy.ops.bdinterp.interpolate_drawing('EXEC_DEFAULT', True, count=2, easing='EASE_IN_OUT') == {'FINISHED'}
+    obj = bpy.data.objects["Arm"]
+    assert [f.frame_number for f in obj.data.layers[0].frames] == [1, 5, 9, 13]
+    bpy.ops.ed.undo()
+    assert snapshot(bpy.data.objects["Arm"]) == before
+
+
+@needs_v3
+def test_a_stroke_count_mismatch_is_refused_with_nothing_changed(addon):
+    keys = {FRAMES[0]: drawn.arm_key(0), FRAMES[1]: drawn.arm_key(1) + [drawn.arm_key(1)[2]]}
+    obj = gps.gp_object("Arm", keys)
+    bpy.context.view_layer.objects.active = obj
+    bpy.context.scene.frame_set(1)
+    before = snapshot(obj)
+    message = r"Arm, layer 'Arm': frame 1 has 3 strokes and frame 13 has 4: strokes \[3\] of frame 13 have no partner"
+    with pytest.raises(RuntimeError, match=message):
+        bpy.ops.bdinterp.interpolate_drawing(count=3)
+    with pytest.raises(addon.BakeError, match=message):
+        addon.interpolate_drawing(obj, *FRAMES, count=3)
+    assert snapshot(obj) == before
+
+
+@needs_v3
+def test_blenders_own_interpolate_sequence_on_the_arm(addon):
+    """Blender's tool moves every point on its chord: the arm shrinks half way (measured here so
+    that the comparison in README and the gallery is this Blender's)."""
+    report = {}
+    for flip in ('NONE', 'AUTO'):
+        obj = arm("Arm " + flip)
+        scale = size(obj)
+        gps.blender_interpolate(obj, FRAMES[0], step=3, flip=flip)
+        strokes, key = gps.strokes_at(obj, MIDDLE), gps.strokes_at(obj, FRAMES[0])
+        report[flip] = {"length_kept": [drawn.length(s["points"]) / drawn.length(k["points"])
+                                        for s, k in zip(strokes, key)],
+                        "elbow": float(np.linalg.norm(strokes[0]["points"][-1] - strokes[1]["points"][0])) / scale,
+                        "wrist": float(np.linalg.norm(strokes[1]["points"][-1] - strokes[2]["points"][0])) / scale}
+        bpy.data.objects.remove(obj)
+    # the upper arm's points on chords across a 120-degree turn: cos 60 = half its length
+    assert report['NONE']["length_kept"][0] == pytest.approx(0.5, abs=0.02)
+    print("JSON:" + json.dumps({"blender_arm": report}))
+
+
+@pytest.mark.skipif(V3, reason="Blender 4.3+ interpolates drawings (see above)")
+def test_before_4_3_the_panel_says_what_it_needs(addon):
+    from bdinterp_blender.strokes import drawing
+    assert drawing.why_not() == "interpolating drawings needs Blender 4.3 or later (Grease Pencil v3)"
+    with pytest.raises(addon.BakeError, match="needs Blender 4.3 or later"):
+        addon.interpolate_drawing(None, 1, 13)
+    assert hasattr(bpy.types, "BDINTERP_PT_drawing")
+    assert not bpy.ops.bdinterp.interpolate_drawing.poll()
