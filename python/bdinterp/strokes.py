@@ -207,7 +207,7 @@ class StrokeInterpolator:
             while queue:
                 parent = queue.popleft()
                 for child, point in near[parent]:
-                    if child not in seen:
+                    if child not in seen and child < len(self._pairs):   # a still end is only a root
                         seen.add(child)
                         out.append((parent, child, point))
                         queue.append(child)

@@ -155,6 +155,8 @@ def write_frame(layer, frame_a, number, strokes, which):
     for name, kind, width in BLENDED:
         values = np.concatenate([s.attributes[name] for s in strokes])
         if name == "vertex_color":
+            if d.attributes.get(name) is None and not values.any():
+                continue   # neither key is tinted: the frame stays without the attribute
             attr = d.attributes.get(name) or d.attributes.new(name, kind, 'POINT')
             attr.data.foreach_set("color", np.ascontiguousarray(values, dtype=np.float32).ravel())
         else:
