@@ -10,8 +10,8 @@ for every layer before the first frame is written, so an error changes nothing.
 import bpy
 
 from ..core import load_core
-from ..drawing_bind import read, write
-from ..mesh_io import BakeError
+from ..view.drawing_bind import read, write
+from ..shapes.mesh_io import BakeError
 from ..timing import EASINGS
 
 # point attributes blended linearly (name, data type, width); position is the band's

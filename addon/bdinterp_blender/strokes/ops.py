@@ -3,7 +3,7 @@ Sequence) and its sidebar panel, which in Blender before 4.3 says what it needs.
 
 import bpy
 
-from ..mesh_io import BakeError
+from ..shapes.mesh_io import BakeError
 from ..timing import EASINGS
 from .drawing import interpolate_drawing, keys_around, why_not
 
