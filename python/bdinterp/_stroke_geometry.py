@@ -129,11 +129,10 @@ def near_segments(points, tolerance):
     """Candidate pairs (i, j) of segments of different strokes that may lie within tolerance of
     each other: a uniform grid as fine as the longest segment plus tolerance, neighbouring cells.
     points: list of (m_k, 2) polylines.  Returns (pairs (p, 2) of global segment indices, owner
-    stroke of every segment, first segment of every stroke)."""
+    stroke of every segment)."""
     a = np.concatenate([p[:-1] for p in points])
     b = np.concatenate([p[1:] for p in points])
     owner = np.repeat(np.arange(len(points)), [len(p) - 1 for p in points])
-    first = np.concatenate([[0], np.cumsum([len(p) - 1 for p in points])])
     cell = max(float(np.linalg.norm(b - a, axis=1).max()), 1e-300) + tolerance
     ij = np.floor((a + b) / (2 * cell)).astype(np.int64)
     ij -= ij.min(axis=0)
@@ -152,4 +151,4 @@ def near_segments(points, tolerance):
         swap = owner[i] > owner[j]
         pairs.append(np.stack([np.where(swap, j, i), np.where(swap, i, j)], 1))
     pairs = np.unique(np.concatenate(pairs), axis=0) if pairs else np.empty((0, 2), np.int64)
-    return pairs, owner, first
+    return pairs, owner

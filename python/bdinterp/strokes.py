@@ -245,7 +245,7 @@ def geo_meetings(ca, cb, touch):
     closest in both together (the midpoint of the two points in key a)."""
     if len(ca) < 2:
         return []
-    pairs, owner, first = geo.near_segments(ca, touch)
+    pairs, owner = geo.near_segments(ca, touch)
     if not len(pairs):
         return []
     out = []

@@ -118,6 +118,32 @@ def test_a_stroke_count_mismatch_is_refused_with_nothing_changed(addon):
 
 
 @needs_v3
+def test_all_layers_and_only_selected_strokes(addon):
+    obj = arm()
+    tail = obj.data.layers.new("Tail")
+    for frame, key in zip(FRAMES, (0, 1)):
+        d = tail.frames.new(frame).drawing
+        (p, radius, opacity), = drawn.tail_key(key)
+        d.add_strokes([len(p)])
+        for q, co in zip(d.strokes[0].points, gps.xz(p)):
+            q.position = tuple(co)
+        d.strokes[0].select = True
+    arm_layer = obj.data.layers["Arm"]
+    for f in arm_layer.frames:                       # the forearm and hand selected in both keys
+        for k, s in enumerate(f.drawing.strokes):
+            s.select = k > 0
+    obj.data.layers.active = arm_layer
+    bpy.context.scene.frame_set(1)
+    assert bpy.ops.bdinterp.interpolate_drawing(layers='ALL', use_selection=True, spacing='STEP', step=4) == {'FINISHED'}
+    for layer, strokes in ((arm_layer, 2), (tail, 1)):
+        assert [f.frame_number for f in layer.frames] == [1, 5, 9, 13]
+        assert all(len(f.drawing.strokes) == strokes for f in layer.frames if f.frame_number in (5, 9))
+    # the in-between's forearm is the forearm of the keys (its length, its elbow end turned about the shoulder)
+    fore = [np.array([tuple(p.position) for p in f.drawing.strokes[0].points]) for f in arm_layer.frames]
+    assert abs(drawn.length(fore[1]) - drawn.length(fore[0])) <= 0.01 * drawn.length(fore[0])
+
+
+@needs_v3
 def test_blenders_own_interpolate_sequence_on_the_arm(addon):
     """Blender's tool moves every point on its chord: the arm shrinks half way (measured here so
     that the comparison in README and the gallery is this Blender's)."""

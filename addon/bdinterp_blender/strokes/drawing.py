@@ -118,7 +118,8 @@ def plane_of(strokes):
 
 def plan_layer(gp_obj, layer, frame_a, frame_b, timing, selected=False):
     """Everything one layer gets, computed without writing: (layer, [(frame, strokes)], the
-    indices of the key's strokes the in-betweens keep).  BakeError naming the object, the layer
+    indices of the key's strokes the in-betweens keep), None when only selected strokes are asked
+    for and the layer has none.  BakeError naming the object, the layer
     and the frames."""
     where = "%s, layer %r" % (gp_obj.name, layer.name)
     fa, fb = frame_at(layer, frame_a), frame_at(layer, frame_b)
@@ -130,6 +131,8 @@ def plan_layer(gp_obj, layer, frame_a, frame_b, timing, selected=False):
                         "in-betweens" % (where, inside, frame_a, frame_b))
     which, a = read_strokes(fa.drawing, selected)
     _, b = read_strokes(fb.drawing, selected)
+    if selected and not a and not b:
+        return None   # nothing selected on this layer: it gets no in-betweens
     bd = load_core()
     try:
         si = bd.strokes.StrokeInterpolator(a, b, plane=plane_of(a + b) if a and b else None, where=where,
@@ -170,7 +173,7 @@ def interpolate_drawing(gp_obj, frame_a, frame_b, count=3, layers=None, easing="
     as new breakdown frames: `count` of them spread evenly (or one every `step` frames), at the
     factors `easing` gives (a name of timing.EASINGS or a callable).  layers: names (or layers)
     to interpolate; None: every layer with keyframes at both frames.  selected: only the selected
-    strokes.  Returns the new frame numbers.  BakeError (nothing changed) when the strokes cannot be
+    strokes (a layer with none selected in either key gets no in-betweens).  Returns the new frame numbers.  BakeError (nothing changed) when the strokes cannot be
     paired or interpolated, or a layer has frames between the keys."""
     reason = why_not(None) or ("no Grease Pencil object given" if gp_obj is None else why_not(gp_obj))
     if reason:
@@ -190,7 +193,9 @@ def interpolate_drawing(gp_obj, frame_a, frame_b, count=3, layers=None, easing="
         if missing:
             raise BakeError("%s has no layer %s" % (gp_obj.name, ", ".join(repr(n) for n in missing)))
         chosen = [gp_obj.data.layers[n] for n in names]
-    plans = [plan_layer(gp_obj, la, frame_a, frame_b, timing, selected) for la in chosen]
+    plans = [p for p in (plan_layer(gp_obj, la, frame_a, frame_b, timing, selected) for la in chosen) if p]
+    if not plans:
+        raise BakeError("%s: no stroke is selected on %s" % (gp_obj.name, ", ".join(repr(la.name) for la in chosen)))
     for layer, frames, which in plans:
         for number, strokes in frames:
             write_frame(layer, frame_a, number, strokes, which)
