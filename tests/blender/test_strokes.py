@@ -134,7 +134,12 @@ def test_all_layers_and_only_selected_strokes(addon):
             s.select = k > 0
     obj.data.layers.active = arm_layer
     bpy.context.scene.frame_set(1)
-    assert bpy.ops.bdinterp.interpolate_drawing(layers='ALL', use_selection=True, spacing='STEP', step=4) == {'FINISHED'}
+    bpy.ops.object.mode_set(mode='EDIT')            # where strokes are selected
+    try:
+        assert bpy.ops.bdinterp.interpolate_drawing(layers='ALL', use_selection=True, spacing='STEP',
+                                                    step=4) == {'FINISHED'}
+    finally:
+        bpy.ops.object.mode_set(mode='OBJECT')
     for layer, strokes in ((arm_layer, 2), (tail, 1)):
         assert [f.frame_number for f in layer.frames] == [1, 5, 9, 13]
         assert all(len(f.drawing.strokes) == strokes for f in layer.frames if f.frame_number in (5, 9))

@@ -7,7 +7,7 @@ from ..shapes.mesh_io import BakeError
 from ..timing import EASINGS
 from .drawing import interpolate_drawing, keys_around, why_not
 
-MODES = {'PAINT_GREASE_PENCIL', 'EDIT_GREASE_PENCIL', 'OBJECT'}
+MODES = {'PAINT_GREASE_PENCIL', 'EDIT', 'OBJECT'}   # draw, edit (a Grease Pencil's edit mode is EDIT)
 EASING_ITEMS = [(name, name.replace("_", " ").title(), "") for name in EASINGS]
 
 
