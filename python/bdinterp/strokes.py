@@ -10,8 +10,9 @@ one bends with the method's bounded distortion.  Strokes that meet (touch or cro
 `touch`) at the same points of both keys are joined there by the core's joints: a tree from the
 stroke that turns least, each child hanging from its parent at the meeting point
 (docs/JOINTS.md, given joints).  A stroke's end that is at the same place in both keys (a tail's
-root, a shoulder) hangs likewise from a still triangle there, so it stays.  Every other per-point value (radius, opacity, colour) is blended
-linearly; so is the distance of 3D points from the strokes' plane.
+root, a shoulder) hangs likewise from a still triangle there, so it stays.  Every other
+per-point value (radius, opacity, colour) is blended linearly; so is the distance of 3D points
+from the strokes' plane.
 """
 from collections import deque
 
@@ -142,7 +143,8 @@ class StrokeInterpolator:
             try:
                 _, va, vb, f = geo.fit_band(pair["a"], pair["b"])
             except ValueError as e:
-                raise ValueError(f"{where}: stroke {k}: {e}".replace("key a", keys[0]).replace("key b", keys[1])) from None
+                named = str(e).replace("key a", keys[0]).replace("key b", keys[1])
+                raise ValueError(f"{where}: stroke {k}: {named}") from None
             xa.append(va), xb.append(vb), faces.append(f + offset)
             self._offsets.append(offset)
             offset += len(va)

@@ -173,8 +173,9 @@ def interpolate_drawing(gp_obj, frame_a, frame_b, count=3, layers=None, easing="
     as new breakdown frames: `count` of them spread evenly (or one every `step` frames), at the
     factors `easing` gives (a name of timing.EASINGS or a callable).  layers: names (or layers)
     to interpolate; None: every layer with keyframes at both frames.  selected: only the selected
-    strokes (a layer with none selected in either key gets no in-betweens).  Returns the new frame numbers.  BakeError (nothing changed) when the strokes cannot be
-    paired or interpolated, or a layer has frames between the keys."""
+    strokes (a layer with none selected in either key gets no in-betweens).  Returns the new frame
+    numbers.  BakeError (nothing changed) when the strokes cannot be paired or interpolated, or a
+    layer has frames between the keys."""
     reason = why_not(None) or ("no Grease Pencil object given" if gp_obj is None else why_not(gp_obj))
     if reason:
         raise BakeError(reason)
