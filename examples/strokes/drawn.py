@@ -58,4 +58,4 @@ def tail_key(key):
 
 
 def length(points):
-    return float(np.linalg.norm(np.diff(points, axis=0), axis=1).sum())
+    return float(np.linalg.norm(np.diff(np.asarray(points, dtype=float), axis=0), axis=1).sum())
