@@ -40,13 +40,15 @@ def _unit(v):
 
 
 def tangents(points):
-    """Unit tangent per point: the mean of the directions of its segments (one at the ends)."""
-    d = _unit(np.diff(points, axis=0))
+    """Unit tangent per point of strokes (g, m, 2): the mean of the directions of its segments
+    (one at the ends)."""
+    d = _unit(np.diff(points, axis=1))
     t = np.empty_like(points)
-    t[0], t[-1] = d[0], d[-1]
-    t[1:-1] = d[:-1] + d[1:]
-    turned_back = np.linalg.norm(t[1:-1], axis=1) < 1e-12
-    t[1:-1][turned_back] = d[:-1][turned_back]
+    t[:, 0], t[:, -1] = d[:, 0], d[:, -1]
+    inner = d[:, :-1] + d[:, 1:]
+    turned_back = np.linalg.norm(inner, axis=2) < 1e-12
+    inner[turned_back] = d[:, :-1][turned_back]
+    t[:, 1:-1] = inner
     return _unit(t)
 
 
@@ -65,39 +67,59 @@ def band_faces(m, offset):
 
 
 def band_vertices(points, half_width):
-    """The band's vertices (3m + 2, 2): the stroke itself (so the in-between's centreline is read
-    back exactly), its offsets by half_width to the left and right, and a tip beyond each end (so
-    the ends are inside the band, where a joint at a stroke's end can hold it)."""
+    """The bands' vertices (g, 3m + 2, 2) of strokes (g, m, 2) with half widths (g,): the stroke
+    itself (so the in-between's centreline is read back exactly), its offsets to the left and
+    right, and a tip beyond each end (so the ends are inside the band, where a joint at a stroke's
+    end can hold it)."""
     t = tangents(points)
-    n = np.stack([-t[:, 1], t[:, 0]], axis=1)
-    return np.concatenate([points, points + half_width * n, points - half_width * n,
-                           [points[0] - half_width * t[0], points[-1] + half_width * t[-1]]])
+    h = half_width[:, None, None]
+    n = np.stack([-t[..., 1], t[..., 0]], axis=2)
+    return np.concatenate([points, points + h * n, points - h * n, points[:, :1] - h * t[:, :1],
+                           points[:, -1:] + h * t[:, -1:]], axis=1)
 
 
 def _signed_areas(X, faces):
-    a, b, c = X[faces[:, 0]], X[faces[:, 1]], X[faces[:, 2]]
-    return (b[:, 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (b[:, 1] - a[:, 1]) * (c[:, 0] - a[:, 0])
+    a, b, c = X[:, faces[:, 0]], X[:, faces[:, 1]], X[:, faces[:, 2]]
+    return (b[..., 0] - a[..., 0]) * (c[..., 1] - a[..., 1]) - (b[..., 1] - a[..., 1]) * (c[..., 0] - a[..., 0])
 
 
-def fit_band(pa, pb):
-    """(half width, vertices in key a, vertices in key b, faces) of one band for the stroke pair
-    (pa, pb) of m points each: as wide as a quarter of the shorter key's mean spacing, halved until
-    no triangle folds in either key.  ValueError when none fits (the stroke turns back sharply)."""
-    m = len(pa)
-    spacing = min(np.linalg.norm(np.diff(p, axis=0), axis=1).mean() for p in (pa, pb))
-    faces = band_faces(m, 0)
-    h = 0.25 * spacing
-    for _ in range(SHRINKS):
-        va, vb = band_vertices(pa, h), band_vertices(pb, h)
-        floor = 1e-12 * h * spacing
-        bad = [np.flatnonzero(_signed_areas(v, faces) <= floor) for v in (va, vb)]
-        if not len(bad[0]) and not len(bad[1]):
-            return h, va, vb, faces
-        h *= 0.5
-    key = 0 if len(bad[0]) else 1
-    point = int(min(faces[bad[key][0]] % m))
-    raise ValueError(f"key {'ab'[key]}: the stroke turns back on itself near point {point} "
-                     f"(its band folds even {2 ** SHRINKS} times narrower)")
+def _fits(va, vb, faces, floor):
+    """Per band: no triangle folds (or collapses below floor) in either key."""
+    return ((_signed_areas(va, faces) > floor[:, None]).all(axis=1)
+            & (_signed_areas(vb, faces) > floor[:, None]).all(axis=1))
+
+
+def fit_bands(ca, cb):
+    """[(vertices in key a, vertices in key b, faces)] of a band per stroke pair (ca[k], cb[k],
+    m_k points each), strokes of one point count at a time: as wide as a quarter of the shorter
+    key's mean spacing, halved until no triangle folds in either key.  ValueError naming the
+    stroke when none fits (it turns back on itself sharply)."""
+    out = [None] * len(ca)
+    for m in sorted({len(p) for p in ca}):
+        ks = [k for k, p in enumerate(ca) if len(p) == m]
+        A, B = np.stack([ca[k] for k in ks]), np.stack([cb[k] for k in ks])
+        spacing = np.minimum(*(np.linalg.norm(np.diff(P, axis=1), axis=2).mean(axis=1) for P in (A, B)))
+        faces, h = band_faces(m, 0), 0.25 * spacing
+        VA, VB = np.empty((len(ks), 3 * m + 2, 2)), np.empty((len(ks), 3 * m + 2, 2))
+        todo = np.arange(len(ks))
+        for _ in range(SHRINKS):
+            va, vb = band_vertices(A[todo], h[todo]), band_vertices(B[todo], h[todo])
+            ok = _fits(va, vb, faces, 1e-12 * h[todo] * spacing[todo])
+            VA[todo[ok]], VB[todo[ok]] = va[ok], vb[ok]
+            todo = todo[~ok]
+            if not len(todo):
+                break
+            h[todo] *= 0.5
+        if len(todo):
+            i = todo[0]
+            bad = [np.flatnonzero(_signed_areas(v[i:i + 1], faces)[0] <= 1e-12 * h[i] * spacing[i])
+                   for v in (band_vertices(A, h), band_vertices(B, h))]
+            key = 0 if len(bad[0]) else 1
+            raise ValueError(f"stroke {ks[i]}: key {'ab'[key]}: the stroke turns back on itself near point "
+                             f"{int(min(faces[bad[key][0]] % m))} (its band folds even {2 ** SHRINKS} times narrower)")
+        for i, k in enumerate(ks):
+            out[k] = (VA[i], VB[i], faces)
+    return out
 
 
 def segment_distances(a0, a1, b0, b1):

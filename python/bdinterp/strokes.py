@@ -137,18 +137,17 @@ class StrokeInterpolator:
         d = pairs[0][0].points.shape[1]
         self.plane = _plane_of(pairs, plane, where) if d == 3 else None
         self._pairs = [self._paired(sa, sb) for sa, sb in pairs]
+        ca, cb = [p["a"] for p in self._pairs], [p["b"] for p in self._pairs]
+        try:
+            bands = geo.fit_bands(ca, cb)
+        except ValueError as e:
+            raise ValueError(f"{where}: " + str(e).replace("key a", keys[0]).replace("key b", keys[1])) from None
         xa, xb, faces, self._offsets = [], [], [], []
         offset = 0
-        for k, pair in enumerate(self._pairs):
-            try:
-                _, va, vb, f = geo.fit_band(pair["a"], pair["b"])
-            except ValueError as e:
-                named = str(e).replace("key a", keys[0]).replace("key b", keys[1])
-                raise ValueError(f"{where}: stroke {k}: {named}") from None
+        for va, vb, f in bands:
             xa.append(va), xb.append(vb), faces.append(f + offset)
             self._offsets.append(offset)
             offset += len(va)
-        ca, cb = [p["a"] for p in self._pairs], [p["b"] for p in self._pairs]
         allpts = np.concatenate(ca)
         self.size = float(np.linalg.norm(allpts.max(axis=0) - allpts.min(axis=0)))
         self.touch = TOUCH * self.size if touch is None else float(touch)
