@@ -177,3 +177,19 @@ def test_before_4_3_the_panel_says_what_it_needs(addon):
         addon.interpolate_drawing(None, 1, 13)
     assert hasattr(bpy.types, "BDINTERP_PT_drawing")
     assert not bpy.ops.bdinterp.interpolate_drawing.poll()
+
+
+def test_the_panel_offers_the_operator_or_says_what_it_needs(addon):
+    from test_ui import Layout
+    if V3:
+        arm()
+    else:   # Blender's own Grease Pencil (v2) before 4.3
+        obj = bpy.data.objects.new("Drawing", bpy.data.grease_pencils.new("Drawing"))
+        bpy.context.scene.collection.objects.link(obj)
+        bpy.context.view_layer.objects.active = obj
+    log = []
+    cls = bpy.types.BDINTERP_PT_drawing
+    assert cls.poll(bpy.context)
+    cls.draw(type("P", (), {"layout": Layout(log)})(), bpy.context)
+    assert log == [("operator", "bdinterp.interpolate_drawing") if V3 else
+                   ("label", "Interpolating drawings needs Blender 4.3 or later (Grease Pencil v3)")]
