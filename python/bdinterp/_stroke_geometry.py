@@ -39,43 +39,53 @@ def _unit(v):
     return v / np.where(n > 0, n, 1.0)
 
 
-def tangents(points):
+def tangents(points, closed=False):
     """Unit tangent per point of strokes (g, m, 2): the mean of the directions of its segments
-    (one at the ends)."""
-    d = _unit(np.diff(points, axis=1))
-    t = np.empty_like(points)
-    t[:, 0], t[:, -1] = d[:, 0], d[:, -1]
-    inner = d[:, :-1] + d[:, 1:]
+    (one at the ends of an open stroke; a closed one also runs from its last point to its first)."""
+    d = _unit((np.roll(points, -1, axis=1) - points) if closed else np.diff(points, axis=1))
+    before = np.roll(d, 1, axis=1) if closed else d[:, :-1]
+    after = d if closed else d[:, 1:]
+    inner = before + after
     turned_back = np.linalg.norm(inner, axis=2) < 1e-12
-    inner[turned_back] = d[:, :-1][turned_back]
-    t[:, 1:-1] = inner
+    inner[turned_back] = before[turned_back]
+    if closed:
+        return _unit(inner)
+    t = np.empty_like(points)
+    t[:, 0], t[:, -1], t[:, 1:-1] = d[:, 0], d[:, -1], inner
     return _unit(t)
 
 
-def band_faces(m, offset):
+def band_faces(m, offset, closed=False):
     """Triangles of the band of an m-point stroke whose vertices start at offset: centre row
-    C_i = offset + i, left row L_i = offset + m + i, right row R_i = offset + 2m + i, start tip
-    offset + 3m, end tip offset + 3m + 1.  Counter-clockwise for a band built by band_vertices."""
-    i = np.arange(m - 1)
+    C_i = offset + i, left row L_i = offset + m + i, right row R_i = offset + 2m + i; an open
+    stroke's start tip offset + 3m and end tip offset + 3m + 1, a closed one's ring runs on from
+    its last point to its first.  Counter-clockwise for a band built by band_vertices."""
+    i = np.arange(m if closed else m - 1)
+    n = (i + 1) % m
     C, L, R = offset + i, offset + m + i, offset + 2 * m + i
-    strip = np.concatenate([np.stack([R, R + 1, C + 1], 1), np.stack([R, C + 1, C], 1),
-                            np.stack([C, C + 1, L + 1], 1), np.stack([C, L + 1, L], 1)])
+    Cn, Ln, Rn = offset + n, offset + m + n, offset + 2 * m + n
+    strip = np.concatenate([np.stack([R, Rn, Cn], 1), np.stack([R, Cn, C], 1),
+                            np.stack([C, Cn, Ln], 1), np.stack([C, Ln, L], 1)])
+    if closed:
+        return strip
     s, e, last = offset + 3 * m, offset + 3 * m + 1, m - 1
     caps = np.array([[s, offset + 2 * m, offset], [s, offset, offset + m],
                      [offset + 2 * m + last, e, offset + last], [offset + last, e, offset + m + last]])
     return np.concatenate([strip, caps])
 
 
-def band_vertices(points, half_width):
-    """The bands' vertices (g, 3m + 2, 2) of strokes (g, m, 2) with half widths (g,): the stroke
+def band_vertices(points, half_width, closed=False):
+    """The bands' vertices (g, 3m (+ 2), 2) of strokes (g, m, 2) with half widths (g,): the stroke
     itself (so the in-between's centreline is read back exactly), its offsets to the left and
-    right, and a tip beyond each end (so the ends are inside the band, where a joint at a stroke's
-    end can hold it)."""
-    t = tangents(points)
+    right, and for an open stroke a tip beyond each end (so the ends are inside the band, where a
+    joint at a stroke's end can hold it)."""
+    t = tangents(points, closed)
     h = half_width[:, None, None]
     n = np.stack([-t[..., 1], t[..., 0]], axis=2)
-    return np.concatenate([points, points + h * n, points - h * n, points[:, :1] - h * t[:, :1],
-                           points[:, -1:] + h * t[:, -1:]], axis=1)
+    rows = [points, points + h * n, points - h * n]
+    if not closed:
+        rows += [points[:, :1] - h * t[:, :1], points[:, -1:] + h * t[:, -1:]]
+    return np.concatenate(rows, axis=1)
 
 
 def _signed_areas(X, faces):
@@ -89,21 +99,22 @@ def _fits(va, vb, faces, floor):
             & (_signed_areas(vb, faces) > floor[:, None]).all(axis=1))
 
 
-def fit_bands(ca, cb):
+def fit_bands(ca, cb, closed):
     """[(vertices in key a, vertices in key b, faces)] of a band per stroke pair (ca[k], cb[k],
-    m_k points each), strokes of one point count at a time: as wide as a quarter of the shorter
-    key's mean spacing, halved until no triangle folds in either key.  ValueError naming the
-    stroke when none fits (it turns back on itself sharply)."""
+    m_k points each; closed[k]: a ring, its last point joined to its first), strokes of one kind
+    at a time: as wide as a quarter of the shorter key's mean spacing, halved until no triangle
+    folds in either key.  ValueError naming the stroke when none fits (it turns back on itself)."""
     out = [None] * len(ca)
-    for m in sorted({len(p) for p in ca}):
-        ks = [k for k, p in enumerate(ca) if len(p) == m]
+    for m, ring in sorted({(len(p), c) for p, c in zip(ca, closed)}):
+        ks = [k for k, (p, c) in enumerate(zip(ca, closed)) if len(p) == m and c == ring]
         A, B = np.stack([ca[k] for k in ks]), np.stack([cb[k] for k in ks])
         spacing = np.minimum(*(np.linalg.norm(np.diff(P, axis=1), axis=2).mean(axis=1) for P in (A, B)))
-        faces, h = band_faces(m, 0), 0.25 * spacing
-        VA, VB = np.empty((len(ks), 3 * m + 2, 2)), np.empty((len(ks), 3 * m + 2, 2))
+        faces, h = band_faces(m, 0, ring), 0.25 * spacing
+        VA = np.empty((len(ks), 3 * m + (0 if ring else 2), 2))
+        VB = np.empty_like(VA)
         todo = np.arange(len(ks))
         for _ in range(SHRINKS):
-            va, vb = band_vertices(A[todo], h[todo]), band_vertices(B[todo], h[todo])
+            va, vb = band_vertices(A[todo], h[todo], ring), band_vertices(B[todo], h[todo], ring)
             ok = _fits(va, vb, faces, 1e-12 * h[todo] * spacing[todo])
             VA[todo[ok]], VB[todo[ok]] = va[ok], vb[ok]
             todo = todo[~ok]
@@ -113,7 +124,7 @@ def fit_bands(ca, cb):
         if len(todo):
             i = todo[0]
             bad = [np.flatnonzero(_signed_areas(v[i:i + 1], faces)[0] <= 1e-12 * h[i] * spacing[i])
-                   for v in (band_vertices(A, h), band_vertices(B, h))]
+                   for v in (band_vertices(A, h, ring), band_vertices(B, h, ring))]
             key = 0 if len(bad[0]) else 1
             raise ValueError(f"stroke {ks[i]}: key {'ab'[key]}: the stroke turns back on itself near point "
                              f"{int(min(faces[bad[key][0]] % m))} (its band folds even {2 ** SHRINKS} times narrower)")

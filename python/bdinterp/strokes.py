@@ -26,12 +26,14 @@ TOUCH = 1e-3    # default meeting distance, relative to the size of the first ke
 
 
 class Stroke:
-    """A stroke: points (n, 2) or (n, 3) and per-point values by name (arrays (n,) or (n, k))."""
+    """A stroke: points (n, 2) or (n, 3), cyclic (its last point joined to its first, as Grease
+    Pencil's cyclic strokes) and per-point values by name (arrays (n,) or (n, k))."""
 
-    __slots__ = ("points", "attributes")
+    __slots__ = ("points", "cyclic", "attributes")
 
-    def __init__(self, points, **attributes):
+    def __init__(self, points, cyclic=False, **attributes):
         self.points = np.asarray(points, dtype=np.float64)
+        self.cyclic = bool(cyclic)
         self.attributes = {k: np.asarray(v, dtype=np.float64) for k, v in attributes.items()}
 
     def __repr__(self):
@@ -138,20 +140,14 @@ class StrokeInterpolator:
         self.plane = _plane_of(pairs, plane, where) if d == 3 else None
         self._pairs = [self._paired(sa, sb) for sa, sb in pairs]
         ca, cb = [p["a"] for p in self._pairs], [p["b"] for p in self._pairs]
-        try:
-            bands = geo.fit_bands(ca, cb)
-        except ValueError as e:
-            raise ValueError(f"{where}: " + str(e).replace("key a", keys[0]).replace("key b", keys[1])) from None
-        xa, xb, faces, self._offsets = [], [], [], []
-        offset = 0
-        for va, vb, f in bands:
-            xa.append(va), xb.append(vb), faces.append(f + offset)
-            self._offsets.append(offset)
-            offset += len(va)
         allpts = np.concatenate(ca)
         self.size = float(np.linalg.norm(allpts.max(axis=0) - allpts.min(axis=0)))
         self.touch = TOUCH * self.size if touch is None else float(touch)
-        n = len(self._pairs)
+        for p in self._pairs:   # a ring: cyclic, or drawn round until its ends meet in both keys
+            p["closed"] = p["cyclic"] or (len(p["a"]) >= 4 and all(
+                np.linalg.norm(p[k][0] - p[k][-1]) <= self.touch for k in "ab"))
+        xa, xb, faces = self._bands(where, keys)
+        n, offset = len(self._pairs), sum(len(x) for x in xa)
         ends = still_ends(ca, cb, self.touch)
         tree = self._tree(geo_meetings(ca, cb, self.touch) + [(n + g, k, p) for g, (k, p) in enumerate(ends)]) \
             if joints else []
@@ -166,16 +162,36 @@ class StrokeInterpolator:
         self._interp = Interpolator([np.concatenate(xa), np.concatenate(xb)], np.concatenate(faces),
                                     joints=links or False, threads=threads)
 
+    def _bands(self, where, keys):
+        """The bands' vertices in each key and their faces, one list entry per stroke (a ring's
+        repeated last point left out); sets each band's first vertex in self._offsets."""
+        ring = [p["closed"] for p in self._pairs]
+        ca = [p["a"][:-1] if r else p["a"] for p, r in zip(self._pairs, ring)]
+        cb = [p["b"][:-1] if r else p["b"] for p, r in zip(self._pairs, ring)]
+        try:
+            bands = geo.fit_bands(ca, cb, ring)
+        except ValueError as e:
+            raise ValueError(f"{where}: " + str(e).replace("key a", keys[0]).replace("key b", keys[1])) from None
+        xa, xb, faces, self._offsets = [], [], [], []
+        offset = 0
+        for va, vb, f in bands:
+            xa.append(va), xb.append(vb), faces.append(f + offset)
+            self._offsets.append(offset)
+            offset += len(va)
+        return xa, xb, faces
+
     def _paired(self, sa, sb):
         """The pair in plane coordinates at common points: a, b (m, 2), the attributes and the
-        heights above the plane of each key at those points."""
-        out = {}
+        heights above the plane of each key at those points; a cyclic pair with its first point
+        repeated at the end (so that arc lengths count the closing segment)."""
+        out = {"cyclic": sa.cyclic and sb.cyclic}
+        again = (lambda v: np.concatenate([v, v[:1]])) if out["cyclic"] else (lambda v: v)  # noqa: E731
         for key, s in (("a", sa), ("b", sb)):
-            p = s.points
+            p = again(s.points)
             if self.plane is not None:
                 out["h" + key] = (p - self.plane.origin) @ self.plane.normal
                 p = self.plane.to_plane(p, "strokes", tolerance=np.inf)
-            out[key], out["attr" + key] = p, dict(s.attributes)
+            out[key], out["attr" + key] = p, {n: again(v) for n, v in s.attributes.items()}
         corr = geo.correspondence(out["a"], out["b"])
         if corr is not None:
             u = corr[0]
@@ -232,11 +248,15 @@ class StrokeInterpolator:
     def _strokes(self, x, t):
         out = []
         for pair, offset in zip(self._pairs, self._offsets):
-            p = x[offset:offset + len(pair["a"])]
+            m = len(pair["a"])
+            p = x[offset:offset + m - pair["closed"]]
+            if pair["closed"]:    # the ring's last point is its first
+                p = np.concatenate([p, p[:1]])
             if self.plane is not None:
                 p = self.plane.to_space(p) + ((1 - t) * pair["ha"] + t * pair["hb"])[:, None] * self.plane.normal
             attrs = {n: (1 - t) * v + t * pair["attrb"][n] for n, v in pair["attra"].items()}
-            out.append(Stroke(p, **attrs))
+            keep = m - pair["cyclic"]    # a cyclic stroke without the repeated point
+            out.append(Stroke(p[:keep], cyclic=pair["cyclic"], **{n: v[:keep] for n, v in attrs.items()}))
         return out
 
 

@@ -88,6 +88,22 @@ def test_a_tail_curling_up_keeps_its_length(addon):
 
 
 @needs_v3
+def test_a_cyclic_stroke_stays_a_ring(addon):
+    ring = drawn.arc((1.0, 0.0), 90, 2 * np.pi, 360, 41)[:-1]     # a circle, its closing segment implicit
+    squashed = drawn.turn(ring * [1.5, 0.6], 40)
+    obj = gps.gp_object("Eye", {f: [(p, np.full(len(p), 0.02), np.ones(len(p)))]
+                                for f, p in zip(FRAMES, (ring, squashed[::2]))})
+    for f in obj.data.layers[0].frames:
+        f.drawing.strokes[0].cyclic = True
+    addon.interpolate_drawing(obj, *FRAMES, count=1)
+    (mid,) = [f.drawing.strokes[0] for f in obj.data.layers[0].frames if f.frame_number == MIDDLE]
+    assert mid.cyclic and len(mid.points) == 40
+    points = gps.strokes_at(obj, MIDDLE)[0]["points"]
+    closing = np.linalg.norm(points[0] - points[-1])
+    assert closing <= 2.0 * np.linalg.norm(points[1] - points[0])   # the ring's own spacing, not a gap
+
+
+@needs_v3
 def test_the_operator_is_one_undo_step(addon):
     obj = arm()
     bpy.context.view_layer.objects.active = obj

@@ -113,6 +113,20 @@ def test_an_end_that_stays_in_both_keys_stays_in_every_inbetween():
     assert np.linalg.norm(alone.points[0]) > 0.1 * si.size
 
 
+def test_a_closed_stroke_stays_closed():
+    circle = arc(2 * np.pi, 360, 41)                   # drawn round until its end meets its start
+    oval = turn(circle * [2.0, 0.5], 30, shift=(1.0, 0.0))
+    square = np.array([[0, 0], [1, 0], [1, 1], [0, 1], [0, 0]], dtype=float)
+    si = StrokeInterpolator([circle, square], [oval, turn(square, 150, shift=(5.0, 0.0))])
+    for strokes in si.frames(TS):
+        assert np.linalg.norm(strokes[0].points[0] - strokes[0].points[-1]) <= 1e-9 * si.size
+        np.testing.assert_allclose(segments(strokes[1].points), 1.0, atol=1e-9)   # rigid, closed
+    # a cyclic stroke (its closing segment implicit, as Grease Pencil's) keeps that form
+    a, b = Stroke(circle[:-1], cyclic=True), Stroke(oval[:-1][::2], cyclic=True)
+    (s,) = StrokeInterpolator([a], [b]).at(0.5)
+    assert s.cyclic and len(s.points) == 40
+
+
 def test_crossing_strokes_are_joined_where_they_cross():
     bar = arc(3.0, 0, 13, start=(-1.5, 0.0))
     cross = turn(arc(2.0, 0, 9, start=(-1.0, 0.0)), 90)            # crosses the bar at its middle

@@ -63,7 +63,7 @@ def _color(drawing, n):
 
 def read_strokes(drawing, selected=False):
     """(stroke indices, bdinterp Strokes) of a drawing: positions (layer space), radius, opacity and
-    vertex colour per point; selected: only the selected strokes."""
+    vertex colour per point, and whether it is cyclic; selected: only the selected strokes."""
     import numpy as np
     Stroke = load_core().strokes.Stroke
     offsets = np.empty(len(drawing.curve_offsets), dtype=np.int32)
@@ -73,11 +73,13 @@ def read_strokes(drawing, selected=False):
     values = {"radius": read(drawing, "radius", 1) if drawing.attributes.get("radius") else np.full(n, 0.01),
               "opacity": read(drawing, "opacity", 1) if drawing.attributes.get("opacity") else np.ones(n),
               "vertex_color": _color(drawing, n)}
-    which = [k for k, s in enumerate(drawing.strokes) if s.select or not selected]
+    flags = [(s.select, s.cyclic) for s in drawing.strokes]
+    which = [k for k, (select, _) in enumerate(flags) if select or not selected]
     strokes = []
     for k in which:
         a, b = offsets[k], offsets[k + 1]
-        strokes.append(Stroke(pos[a:b], **{name: np.asarray(v[a:b], dtype=np.float64) for name, v in values.items()}))
+        strokes.append(Stroke(pos[a:b], cyclic=flags[k][1],
+                              **{name: np.asarray(v[a:b], dtype=np.float64) for name, v in values.items()}))
     return which, strokes
 
 
