@@ -12,9 +12,8 @@ stroke that turns least, each child hanging from its parent at the meeting point
 (docs/JOINTS.md, given joints).  A stroke's end that is at the same place in both keys (a tail's
 root, a shoulder) hangs likewise from a still triangle there, so it stays.  A closed stroke
 (cyclic, or drawn round until its ends meet in both keys) gets a ring band, so it stays closed.
-Every other
-per-point value (radius, opacity, colour) is blended linearly; so is the distance of 3D points
-from the strokes' plane.
+Every other per-point value (radius, opacity, colour) is blended linearly; so is the distance of
+3D points from the strokes' plane.
 """
 from collections import deque
 
