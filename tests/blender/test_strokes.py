@@ -209,3 +209,36 @@ def test_the_panel_offers_the_operator_or_says_what_it_needs(addon):
     cls.draw(type("P", (), {"layout": Layout(log)})(), bpy.context)
     assert log == [("operator", "bdinterp.interpolate_drawing") if V3 else
                    ("label", "Interpolating drawings needs Blender 4.3 or later (Grease Pencil v3)")]
+
+
+@needs_v3
+def test_a_drawing_of_200_strokes(addon):
+    """scripts/bench_strokes.py's drawing (200 strokes of 100 points) in Blender: 10 in-betweens,
+    every stroke there with its length between the keys' (the time is printed for BENCHMARKS)."""
+    import time
+    sys.path.insert(0, os.path.join(ROOT, "scripts"))
+    import bench_strokes
+    a, b = bench_strokes.drawing(200, 100)
+    keys = {f: [(p, np.full(100, 0.01), np.ones(100)) for p in key] for f, key in zip((1, 12), (a, b))}
+    coll = bpy.data.grease_pencils_v3 if hasattr(bpy.data, "grease_pencils_v3") else bpy.data.grease_pencils
+    obj = bpy.data.objects.new("Hair", coll.new("Hair"))
+    bpy.context.scene.collection.objects.link(obj)
+    layer = obj.data.layers.new("Hair")
+    for frame, strokes in keys.items():   # written at once (200 x 100 points one by one is slow)
+        d = layer.frames.new(frame).drawing
+        d.add_strokes([100] * 200)
+        d.attributes["position"].data.foreach_set(
+            "vector", np.concatenate([gps.xz(p) for p, _, _ in strokes]).astype(np.float32).ravel())
+    start = time.perf_counter()
+    assert addon.interpolate_drawing(obj, 1, 12, count=10) == list(range(2, 12))
+    seconds = time.perf_counter() - start
+    for frame in (2, 7, 11):
+        d = next(f.drawing for f in layer.frames if f.frame_number == frame)
+        assert len(d.strokes) == 200
+        P = np.empty(200 * 100 * 3, dtype=np.float32)
+        d.attributes["position"].data.foreach_get("vector", P)
+        lengths = [drawn.length(p) for p in P.reshape(200, 100, 3)]
+        lo, hi = np.minimum(*[[drawn.length(p) for p in k] for k in (a, b)]), np.maximum(
+            *[[drawn.length(p) for p in k] for k in (a, b)])
+        assert np.all(lengths >= lo * (1 - 1e-4)) and np.all(lengths <= hi * (1 + 1e-4))
+    print("JSON:" + json.dumps({"blender_200_strokes_seconds": seconds}))
