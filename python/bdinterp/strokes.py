@@ -13,7 +13,8 @@ stroke that turns least, each child hanging from its parent at the meeting point
 root, a shoulder) hangs likewise from a still triangle there, so it stays.  A closed stroke
 (cyclic, or drawn round until its ends meet in both keys) gets a ring band, so it stays closed.
 Every other per-point value (radius, opacity, colour) is blended linearly; so is the distance of
-3D points from the strokes' plane.
+3D points from the strokes' plane.  Strokes left over when the keys' counts differ are refused, or
+on request fade out (key a's) or in (key b's) where they are drawn.
 """
 from collections import deque
 
@@ -24,6 +25,7 @@ from .interpolate import Interpolator
 from .plane import Plane
 
 TOUCH = 1e-3    # default meeting distance, relative to the size of the first key
+UNPAIRED = ("error", "fade")   # what becomes of strokes left over when the keys' counts differ
 
 
 class Stroke:
@@ -67,16 +69,20 @@ def _check(stroke, name):
                              f"({len(p)}), got shape {v.shape}")
 
 
-def pair_strokes(strokes_a, strokes_b, where="strokes", keys=("key a", "key b")):
-    """The strokes of two keys as pairs (by order, as Blender pairs them), each checked.
-    ValueError naming `where`, the keys and the strokes left over when the counts differ."""
+def pair_strokes(strokes_a, strokes_b, where="strokes", keys=("key a", "key b"), unpaired="error"):
+    """(pairs, strokes of key a left over, strokes of key b left over): the strokes of two keys
+    paired by order (as Blender pairs them), each checked.  When the counts differ: unpaired
+    "error", a ValueError naming `where`, the keys and the strokes left over; "fade", the strokes
+    past the shorter key's count are left over (to fade out or in)."""
+    if unpaired not in UNPAIRED:
+        raise ValueError(f"unpaired must be one of {UNPAIRED}, got {unpaired!r}")
     a, b = [_as_stroke(s) for s in strokes_a], [_as_stroke(s) for s in strokes_b]
-    if len(a) != len(b):
+    if len(a) != len(b) and unpaired == "error":
         more, extra = (keys[0], a) if len(a) > len(b) else (keys[1], b)
         left = list(range(min(len(a), len(b)), len(extra)))
         raise ValueError(f"{where}: {keys[0]} has {len(a)} strokes and {keys[1]} has {len(b)}: "
                          f"strokes {left} of {more} have no partner")
-    if not a:
+    if not a and not b:
         raise ValueError(f"{where}: there are no strokes to interpolate")
     dims = {s.points.shape[-1] if s.points.ndim == 2 else None for s in a + b}
     for key, strokes in zip(keys, (a, b)):
@@ -88,7 +94,15 @@ def pair_strokes(strokes_a, strokes_b, where="strokes", keys=("key a", "key b"))
         if sorted(sa.attributes) != sorted(sb.attributes):
             raise ValueError(f"{where}: stroke {k} has attributes {sorted(sa.attributes)} in {keys[0]} "
                              f"but {sorted(sb.attributes)} in {keys[1]}")
-    return list(zip(a, b))
+    n = min(len(a), len(b))
+    return list(zip(a, b)), a[n:], b[n:]
+
+
+def _faded(stroke, weight):
+    """A stroke left over, as drawn, its opacity times weight."""
+    attrs = dict(stroke.attributes)
+    attrs["opacity"] = weight * attrs.get("opacity", np.ones(len(stroke.points)))
+    return Stroke(stroke.points, cyclic=stroke.cyclic, **attrs)
 
 
 def resample(points, count, **attributes):
@@ -130,13 +144,22 @@ class StrokeInterpolator:
     Plane of 3D strokes (None: fitted); touch: how close (in the shapes' units) two strokes must
     come in both keys, at the same points of each, to be joined there (None: 1e-3 of the first
     key's size); joints: False, every stroke on its own path (for comparison); threads as
-    Interpolator's; where, keys: how errors name the drawing and its keys.  Attributes: joints
+    Interpolator's; where, keys: how errors name the drawing and its keys; unpaired: "error" (a
+    count mismatch is a ValueError) or "fade" (the strokes left over stay as drawn and fade out,
+    or in, with t).  Attributes: joints
     [(parent stroke, child stroke, point)], still [(stroke, point)] (ends kept in place), size.
     """
 
     def __init__(self, strokes_a, strokes_b, *, plane=None, touch=None, joints=True, threads=0,
-                 where="strokes", keys=("key a", "key b")):
-        pairs = pair_strokes(strokes_a, strokes_b, where, keys)
+                 where="strokes", keys=("key a", "key b"), unpaired="error"):
+        pairs, *self._left_over = pair_strokes(strokes_a, strokes_b, where, keys, unpaired)
+        self.joints, self.still, self._pairs, self._offsets, self._interp = [], [], [], [], None
+        self.plane = self.size = self.touch = None
+        if pairs:
+            self._solver(pairs, plane, touch, joints, threads, where, keys)
+
+    def _solver(self, pairs, plane, touch, joints, threads, where, keys):
+        """The bands of the pairs, their joints and still ends, and the Interpolator."""
         d = pairs[0][0].points.shape[1]
         self.plane = _plane_of(pairs, plane, where) if d == 3 else None
         self._pairs = [self._paired(sa, sb) for sa, sb in pairs]
@@ -233,14 +256,16 @@ class StrokeInterpolator:
 
     @property
     def stats(self):
-        """The Interpolator's FrameStats of the last call."""
-        return self._interp.stats
+        """The Interpolator's FrameStats of the last call (None when no stroke is paired)."""
+        return self._interp.stats if self._interp is not None else None
 
     def frames(self, ts):
-        """The in-betweens at every t of ts: a list (per t) of lists of Stroke."""
+        """The in-betweens at every t of ts: a list (per t) of lists of Stroke (the pairs', then
+        key a's strokes left over fading out, then key b's fading in)."""
         ts = np.asarray(ts, dtype=np.float64).ravel()
-        X = self._interp.frames(ts)
-        return [self._strokes(x, t) for x, t in zip(X, ts)]
+        X = self._interp.frames(ts) if self._interp is not None else [None] * len(ts)
+        return [self._strokes(x, t) + [_faded(s, 1 - t) for s in self._left_over[0]]
+                + [_faded(s, t) for s in self._left_over[1]] for x, t in zip(X, ts)]
 
     def at(self, t):
         """The in-between at t: a list of Stroke."""

@@ -131,6 +131,14 @@ def test_a_stroke_count_mismatch_is_refused_with_nothing_changed(addon):
     with pytest.raises(addon.BakeError, match=message):
         addon.interpolate_drawing(obj, *FRAMES, count=3)
     assert snapshot(obj) == before
+    # asked to, the stroke left over fades in where it is drawn (as Blender's own tool can)
+    assert addon.interpolate_drawing(obj, *FRAMES, count=3, fade=True) == [4, 7, 10]
+    extra = gps.strokes_at(obj, FRAMES[1])[3]
+    for frame in (4, 7, 10):
+        strokes = gps.strokes_at(obj, frame)
+        assert len(strokes) == 4
+        np.testing.assert_array_equal(strokes[3]["points"], extra["points"])
+        np.testing.assert_allclose(strokes[3]["opacity"], (frame - 1) / 12.0 * extra["opacity"], atol=1e-6)
 
 
 @needs_v3

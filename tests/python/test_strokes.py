@@ -198,6 +198,22 @@ def test_a_stroke_count_mismatch_names_the_strokes_left_over():
         StrokeInterpolator([ZIGZAG] * 3, [ZIGZAG], where="layer 'Arm'", keys=("frame 1", "frame 9"))
 
 
+def test_strokes_left_over_fade_out_or_in_on_request():
+    bar = Stroke(arc(1.0, 0, 5), opacity=np.full(5, 0.8))
+    extra = Stroke(arc(1.0, 90, 6, start=(2.0, 0.0)), opacity=np.full(6, 0.5))
+    turned = Stroke(turn(arc(1.0, 0, 5), 90), opacity=np.full(5, 0.8))
+    (bar_t, out), = StrokeInterpolator([bar, extra], [turned], unpaired="fade").frames([0.25])
+    np.testing.assert_allclose(segments(bar_t.points), 0.25, atol=1e-9)
+    np.testing.assert_allclose(out.points, extra.points)                 # as drawn, fading out
+    np.testing.assert_allclose(out.attributes["opacity"], 0.75 * 0.5)
+    (_, appearing), = StrokeInterpolator([turned], [bar, extra], unpaired="fade").frames([0.25])
+    np.testing.assert_allclose(appearing.attributes["opacity"], 0.25 * 0.5)
+    (only,), = StrokeInterpolator([], [extra], unpaired="fade").frames([0.5])   # nothing to pair
+    np.testing.assert_allclose(only.attributes["opacity"], 0.25)
+    with pytest.raises(ValueError, match="unpaired must be one of"):
+        StrokeInterpolator([bar], [bar], unpaired="drop")
+
+
 def test_a_stroke_that_turns_back_on_itself_is_refused():
     hairpin = np.array([[0, 0], [1, 0], [0, 1e-13]])
     with pytest.raises(ValueError, match="stroke 0: key a: the stroke turns back on itself near point"):

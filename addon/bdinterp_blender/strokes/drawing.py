@@ -118,11 +118,11 @@ def plane_of(strokes):
     return bd.Plane(pts.mean(axis=0), np.array([[1.0, 0, 0], [0, 0, 1.0]]), np.array([0.0, -1.0, 0.0]))
 
 
-def plan_layer(gp_obj, layer, frame_a, frame_b, timing, selected=False):
+def plan_layer(gp_obj, layer, frame_a, frame_b, timing, selected=False, fade=False):
     """Everything one layer gets, computed without writing: (layer, [(frame, strokes)], the
-    indices of the key's strokes the in-betweens keep), None when only selected strokes are asked
-    for and the layer has none.  BakeError naming the object, the layer
-    and the frames."""
+    indices of key a's strokes the in-betweens keep, [(material index, cyclic)] of key b's strokes
+    left over, which fade in), None when only selected strokes are asked for and the layer has
+    none.  BakeError naming the object, the layer and the frames."""
     where = "%s, layer %r" % (gp_obj.name, layer.name)
     fa, fb = frame_at(layer, frame_a), frame_at(layer, frame_b)
     if fa is None or fb is None:
@@ -132,22 +132,25 @@ def plan_layer(gp_obj, layer, frame_a, frame_b, timing, selected=False):
         raise BakeError("%s already has frames %s between frames %d and %d: delete them to make new "
                         "in-betweens" % (where, inside, frame_a, frame_b))
     which, a = read_strokes(fa.drawing, selected)
-    _, b = read_strokes(fb.drawing, selected)
+    which_b, b = read_strokes(fb.drawing, selected)
     if selected and not a and not b:
         return None   # nothing selected on this layer: it gets no in-betweens
     bd = load_core()
     try:
         si = bd.strokes.StrokeInterpolator(a, b, plane=plane_of(a + b) if a and b else None, where=where,
-                                           keys=("frame %d" % frame_a, "frame %d" % frame_b))
+                                           keys=("frame %d" % frame_a, "frame %d" % frame_b),
+                                           unpaired="fade" if fade else "error")
         frames = si.frames([t for _, t in timing])
     except (ValueError, RuntimeError) as exc:
         raise BakeError(str(exc)) from None
-    return layer, [(number, strokes) for (number, _), strokes in zip(timing, frames)], which
+    added = [(fb.drawing.strokes[k].material_index, fb.drawing.strokes[k].cyclic) for k in which_b[len(a):]]
+    return layer, [(number, strokes) for (number, _), strokes in zip(timing, frames)], which, added
 
 
-def write_frame(layer, frame_a, number, strokes, which):
+def write_frame(layer, frame_a, number, strokes, which, added=()):
     """A new breakdown frame `number` of the layer: a copy of key frame_a reduced to the strokes
-    `which`, with the in-between's points."""
+    `which`, and strokes (material index, cyclic) `added` after them, with the in-between's
+    points."""
     import numpy as np
     frame = layer.frames.copy(frame_a, number)
     frame.keyframe_type = 'BREAKDOWN'
@@ -155,6 +158,10 @@ def write_frame(layer, frame_a, number, strokes, which):
     drop = [k for k in range(len(d.strokes)) if k not in set(which)]
     if drop:
         d.remove_strokes(indices=drop)
+    if added:
+        d.add_strokes([len(s.points) for s in strokes[len(which):]])
+        for stroke, (material, cyclic) in zip(list(d.strokes)[len(which):], added):
+            stroke.material_index, stroke.cyclic = material, cyclic
     d.resize_strokes([len(s.points) for s in strokes])
     write(d, "position", 'FLOAT_VECTOR', np.concatenate([s.points for s in strokes]))
     for name, kind, width in BLENDED:
@@ -170,12 +177,14 @@ def write_frame(layer, frame_a, number, strokes, which):
 
 
 def interpolate_drawing(gp_obj, frame_a, frame_b, count=3, layers=None, easing="LINEAR", step=None,
-                        selected=False):
+                        selected=False, fade=False):
     """Bounded-distortion in-betweens of gp_obj's drawings between keyframes frame_a and frame_b,
     as new breakdown frames: `count` of them spread evenly (or one every `step` frames), at the
     factors `easing` gives (a name of timing.EASINGS or a callable).  layers: names (or layers)
     to interpolate; None: every layer with keyframes at both frames.  selected: only the selected
-    strokes (a layer with none selected in either key gets no in-betweens).  Returns the new frame
+    strokes (a layer with none selected in either key gets no in-betweens).  fade: strokes left
+    over when a layer's keys have other stroke counts fade out (the first key's) or in (the
+    second key's) where they are drawn, instead of being refused.  Returns the new frame
     numbers.  BakeError (nothing changed) when the strokes cannot be paired or interpolated, or a
     layer has frames between the keys."""
     reason = why_not(None) or ("no Grease Pencil object given" if gp_obj is None else why_not(gp_obj))
@@ -196,11 +205,11 @@ def interpolate_drawing(gp_obj, frame_a, frame_b, count=3, layers=None, easing="
         if missing:
             raise BakeError("%s has no layer %s" % (gp_obj.name, ", ".join(repr(n) for n in missing)))
         chosen = [gp_obj.data.layers[n] for n in names]
-    plans = [p for p in (plan_layer(gp_obj, la, frame_a, frame_b, timing, selected) for la in chosen) if p]
+    plans = [p for p in (plan_layer(gp_obj, la, frame_a, frame_b, timing, selected, fade) for la in chosen) if p]
     if not plans:
         raise BakeError("%s: no stroke is selected on %s" % (gp_obj.name, ", ".join(repr(la.name) for la in chosen)))
-    for layer, frames, which in plans:
+    for layer, frames, which, added in plans:
         for number, strokes in frames:
-            write_frame(layer, frame_a, number, strokes, which)
+            write_frame(layer, frame_a, number, strokes, which, added)
     gp_obj.data.update_tag()
     return [number for number, _ in timing]

@@ -27,6 +27,9 @@ class BDINTERP_OT_interpolate_drawing(bpy.types.Operator):
     count: bpy.props.IntProperty(name="In-betweens", default=3, min=1, soft_max=50)
     step: bpy.props.IntProperty(name="Step", default=1, min=1, soft_max=20)
     easing: bpy.props.EnumProperty(name="Easing", items=EASING_ITEMS)
+    fade: bpy.props.BoolProperty(name="Fade Unpaired Strokes", default=False,
+                                 description="When the keys have other stroke counts, fade the strokes "
+                                             "left over out (or in) instead of refusing")
 
     @classmethod
     def poll(cls, context):
@@ -50,7 +53,7 @@ class BDINTERP_OT_interpolate_drawing(bpy.types.Operator):
             new = interpolate_drawing(obj, frame_a, frame_b, count=self.count,
                                       layers=[active.name] if self.layers == 'ACTIVE' else None,
                                       easing=self.easing, step=self.step if self.spacing == 'STEP' else None,
-                                      selected=self.use_selection)
+                                      selected=self.use_selection, fade=self.fade)
         except (BakeError, RuntimeError, ValueError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
