@@ -131,7 +131,7 @@ def test_a_stroke_count_mismatch_is_refused_with_nothing_changed(addon):
     with pytest.raises(addon.BakeError, match=message):
         addon.interpolate_drawing(obj, *FRAMES, count=3)
     assert snapshot(obj) == before
-    # asked to, the stroke left over fades in where it is drawn (as Blender's own tool can)
+    # asked to, the stroke left over fades in where it is drawn
     assert addon.interpolate_drawing(obj, *FRAMES, count=3, fade=True) == [4, 7, 10]
     extra = gps.strokes_at(obj, FRAMES[1])[3]
     for frame in (4, 7, 10):
