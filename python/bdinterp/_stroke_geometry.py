@@ -158,30 +158,40 @@ def segment_distances(a0, a1, b0, b1):
     return best, bs, bu
 
 
+def _spans(n):
+    """For runs of lengths n: (index of the run, position within it) of every element."""
+    run = np.repeat(np.arange(len(n)), n)
+    return run, np.arange(run.size) - np.repeat(np.cumsum(n) - n, n)
+
+
 def near_segments(points, tolerance):
     """Candidate pairs (i, j) of segments of different strokes that may lie within tolerance of
-    each other: a uniform grid as fine as the longest segment plus tolerance, neighbouring cells.
-    points: list of (m_k, 2) polylines.  Returns (pairs (p, 2) of global segment indices, owner
-    stroke of every segment)."""
+    each other: those whose bounding boxes, grown by tolerance, share a cell of a uniform grid as
+    fine as twice the median segment (a long segment lies in every cell its box covers, so one long
+    stroke does not coarsen the grid for all).  points: list of (m_k, 2) polylines.  Returns
+    (pairs (p, 2) of global segment indices, the lower stroke's first; owner stroke of every
+    segment)."""
     a = np.concatenate([p[:-1] for p in points])
     b = np.concatenate([p[1:] for p in points])
     owner = np.repeat(np.arange(len(points)), [len(p) - 1 for p in points])
-    cell = max(float(np.linalg.norm(b - a, axis=1).max()), 1e-300) + tolerance
-    ij = np.floor((a + b) / (2 * cell)).astype(np.int64)
-    ij -= ij.min(axis=0)
-    width = int(ij[:, 1].max()) + 3
-    key = ij[:, 0] * width + ij[:, 1]
+    cell = max(float(2.0 * np.median(np.linalg.norm(b - a, axis=1))) + tolerance, 1e-300)
+    lo = np.floor((np.minimum(a, b) - tolerance) / cell).astype(np.int64)
+    hi = np.floor((np.maximum(a, b) + tolerance) / cell).astype(np.int64)
+    origin, size = lo.min(axis=0), hi - lo + 1
+    seg, k = _spans(size[:, 0] * size[:, 1])                 # every (segment, cell it covers)
+    cx, cy = lo[seg, 0] + k // size[seg, 1] - origin[0], lo[seg, 1] + k % size[seg, 1] - origin[1]
+    key = cx * (int(hi[:, 1].max() - origin[1]) + 1) + cy
     order = np.argsort(key, kind="stable")
-    sorted_key = key[order]
-    pairs = []
-    for dx, dy in ((0, 0), (1, -1), (1, 0), (1, 1), (0, 1)):   # each neighbouring pair of cells once
-        target = key + dx * width + dy
-        lo, hi = np.searchsorted(sorted_key, target, "left"), np.searchsorted(sorted_key, target, "right")
-        count = hi - lo
-        i = np.repeat(np.arange(len(key)), count)
-        j = order[np.repeat(lo - np.cumsum(count) + count, count) + np.arange(count.sum())]
-        i, j = i[owner[i] != owner[j]], j[owner[i] != owner[j]]
-        swap = owner[i] > owner[j]
-        pairs.append(np.stack([np.where(swap, j, i), np.where(swap, i, j)], 1))
-    pairs = np.unique(np.concatenate(pairs), axis=0) if pairs else np.empty((0, 2), np.int64)
-    return pairs, owner
+    seg, key = seg[order], key[order]
+    starts = np.flatnonzero(np.concatenate([[True], key[1:] != key[:-1]]))
+    group = np.diff(np.concatenate([starts, [len(key)]]))
+    member, place = _spans(group)                            # every entry's group and place in it
+    later = group[member] - place - 1                        # partners after it in its cell
+    i_entry = np.repeat(np.arange(len(key)), later)
+    _, step = _spans(later)
+    i, j = seg[i_entry], seg[i_entry + step + 1]
+    keep = owner[i] != owner[j]
+    i, j = i[keep], j[keep]
+    swap = owner[i] > owner[j]
+    pairs = np.stack([np.where(swap, j, i), np.where(swap, i, j)], 1)
+    return (np.unique(pairs, axis=0) if len(pairs) else np.empty((0, 2), np.int64)), owner
