@@ -218,3 +218,20 @@ def test_a_stroke_that_turns_back_on_itself_is_refused():
     hairpin = np.array([[0, 0], [1, 0], [0, 1e-13]])
     with pytest.raises(ValueError, match="stroke 0: key a: the stroke turns back on itself near point"):
         StrokeInterpolator([hairpin], [hairpin])
+
+
+def test_the_meeting_grid_misses_no_close_segments():
+    """Candidate pairs of the grid against every pair of segments, with one long stroke across
+    forty short ones (it lies in every cell it covers; the cells stay as fine as the short ones)."""
+    from bdinterp import _stroke_geometry as geo
+    rng = np.random.default_rng(2)
+    strokes = [np.cumsum(rng.normal(0, 0.3, (rng.integers(2, 30), 2)), axis=0) + rng.uniform(0, 6, 2)
+               for _ in range(40)] + [np.array([[-5.0, -5.0], [12.0, 12.0]])]
+    pairs, owner = geo.near_segments(strokes, 0.05)
+    a, b = np.concatenate([p[:-1] for p in strokes]), np.concatenate([p[1:] for p in strokes])
+    i, j = np.triu_indices(len(a), 1)
+    i, j = i[owner[i] != owner[j]], j[owner[i] != owner[j]]
+    d, _, _ = geo.segment_distances(a[i], b[i], a[j], b[j])
+    close = set(zip(i[d <= 0.05].tolist(), j[d <= 0.05].tolist()))
+    assert len(close) > 100 and close <= set(map(tuple, np.sort(pairs, axis=1).tolist()))
+    assert len(pairs) < 0.1 * len(i)     # and far fewer than all pairs
