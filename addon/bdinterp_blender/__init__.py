@@ -6,8 +6,9 @@ Subpackages by the animator's task, each importing only from the layers before i
 (tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
 timing, changes (the one pair of scene handlers) -> shapes (keys read, settings, solve: no
 writes) -> files (paintings in, Mesh from Image) and keys (what writes shape keys: the slider,
-bake jobs, export, characters, live mode) -> view (what the viewport draws) -> api (the scripting facade) and strokes (Grease Pencil in-betweens,
-their operator and panel) -> ui (properties, operators, panels) -> this file (registration).
+bake jobs, export, characters, live mode) -> view (what the viewport draws) -> api (the
+scripting facade) and strokes (Grease Pencil in-betweens, their operator and panel) -> ui
+(properties, operators, panels) -> this file (registration).
 """
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
