@@ -290,7 +290,7 @@ def _coa_nodes(path, budget):
         with open(path, "rb") as f:
             text = f.read(MAX_JSON_BYTES + 1)
     except OSError as e:
-        raise ValueError("it cannot be read (%s)" % e) from None
+        raise ValueError("it is not a COA Tools JSON file (%s)" % e) from None
     if len(text) > MAX_JSON_BYTES:
         raise ValueError("it is larger than %d bytes (the limit for its JSON)" % MAX_JSON_BYTES)
     budget.take(len(text))
