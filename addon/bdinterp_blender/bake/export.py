@@ -8,8 +8,9 @@ what was written, so that remove() takes exactly that away and unmutes the drive
 Export never replaces F-curves it did not write (see bake()).
 """
 
-from . import actions, playback
-from .mesh_io import BakeError
+from .. import actions
+from . import playback
+from ..shapes.mesh_io import BakeError
 
 EXPORT_PROP = "bdi_export"
 LINEAR = 1  # index of 'LINEAR' in Keyframe.interpolation's items (foreach_set takes indices)
