@@ -106,7 +106,7 @@ def fail_at(count, exc, once=False):
 
 @pytest.mark.parametrize("again", [False, True], ids=["first", "over an earlier export bake"])
 def test_export_error_mid_sampling_changes_nothing(addon, strip, monkeypatch, again):
-    export = module(addon, "export")
+    export = module(addon, "bake.export")
     if again:
         addon.bake_for_export([strip])
     before = state()
@@ -198,7 +198,7 @@ class _Steps:
 
 def test_unexpected_error_in_a_bake_step_stops_the_job(addon):
     import time
-    operators, api = module(addon, "operators"), module(addon, "api")
+    operators, api = module(addon, "ui.operators"), module(addon, "api")
     obj = bent_strip()
     obj.bdi.target = "Bend"
     before = state()
@@ -221,7 +221,7 @@ def test_unexpected_error_in_a_bake_step_stops_the_job(addon):
 
 
 def test_live_handler_error_turns_live_off_once_and_keeps_the_keys(addon, monkeypatch, capsys):
-    live = module(addon, "live")
+    live = module(addon, "bake.live")
     obj = bent_strip()
     addon.set_live(obj, target="Bend", factor=0.5)
     obj.bdi.live_factor = 0.6
@@ -239,7 +239,7 @@ def test_live_handler_error_turns_live_off_once_and_keeps_the_keys(addon, monkey
 
 
 def test_live_handler_that_cannot_switch_off_leaves_the_object_alone(addon, monkeypatch, capsys):
-    live = module(addon, "live")
+    live = module(addon, "bake.live")
     obj = bent_strip()
     addon.set_live(obj, target="Bend", factor=0.5)
     on_update = fail_at(1, RuntimeError("injected"))(live._on_update)
@@ -255,7 +255,7 @@ def test_live_handler_that_cannot_switch_off_leaves_the_object_alone(addon, monk
 
 
 def test_onion_skin_errors_are_said_once_and_stop_that_overlay(addon, monkeypatch, capsys):
-    onion = module(addon, "onion")
+    onion = module(addon, "view.onion")
     obj = bent_strip()
     addon.bake(obj, "Bend", count=3)
     obj.bdi.target = "Bend"
