@@ -123,7 +123,8 @@ def test_export_error_while_writing_undoes_every_change(addon, strip, monkeypatc
     addon.bake_for_export([strip], frame_end=8)
     before = state()
     assert len(before["Strip"]["key anim"]["curves"]) == 5  # 4 in-betweens and the target
-    monkeypatch.setattr(actions, "set_points", fail_at(call, TypeError("injected"), once=True)(actions.set_points))
+    failing = fail_at(call, TypeError("injected"), once=True)(actions.set_points)
+    monkeypatch.setattr(actions, "set_points", failing)
     with pytest.raises(TypeError, match="injected"):
         addon.bake_for_export([strip])
     same(before)

@@ -88,7 +88,7 @@ ORA = {  # name: (writer of the file at path, what the message says)
                     "x '1e400' of None is not a number within"),
     "NaN opacity": (lambda p: _ora_stack(p, '<image><stack><layer src="a.png" opacity="nan"/></stack>'
                                             "</image>"), "opacity 'nan'"),
-    "70000 zip members": (lambda p: p.write_bytes(pa.raw_zip([pa.stored("%d" % i, b"") for i in range(70000)])),
+    "70000 zip members": (lambda p: p.write_bytes(pa.raw_zip([pa.stored(str(i), b"") for i in range(70000)])),
                           "members, more than the limit of 4000"),
     "member longer than its recorded size": (lambda p: p.write_bytes(pa.raw_zip([
         pa.stored("stack.xml", _layers(1).encode()), ("a.png", 0, 0, 40, PNG)])), "not an OpenRaster file"),

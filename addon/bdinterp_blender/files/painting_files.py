@@ -89,13 +89,12 @@ def _zip_entries(f):
 
 
 def _member(z, name, budget):
-    """The bytes of member `name`, unpacked in chunks against the budget; a PNG is checked by its
-    header (PNG_SIGNATURE, size) before the rest is unpacked."""
+    """The bytes of the PNG member `name`, unpacked in chunks against the budget, its header
+    (PNG_SIGNATURE, size) checked before the rest is unpacked."""
     out = bytearray()
     with z.open(name) as f:
         head = f.read(24)
-        if name != "stack.xml":
-            png_size(head)
+        png_size(head)
         budget.take(len(head))
         out += head
         while True:
