@@ -98,7 +98,8 @@ def _sample(scene, plans, frames):
     import bpy
     values = {(obj.name, kb.name): [] for obj, keys in plans for kb, _ in keys}
     current = scene.frame_current, scene.frame_subframe
-    mutes = [(driver, driver.mute) for _, keys in plans for _, driver in keys]
+    mutes = [(driver, driver.mute) for obj, keys in plans for kb, driver in keys
+             if kb.name in _ours(obj)]  # a driver muted otherwise is the user's choice
     try:
         for driver, _ in mutes:
             driver.mute = False
