@@ -106,7 +106,7 @@ def fail_at(count, exc, once=False):
 
 @pytest.mark.parametrize("again", [False, True], ids=["first", "over an earlier export bake"])
 def test_export_error_mid_sampling_changes_nothing(addon, strip, monkeypatch, again):
-    export = module(addon, "bake.export")
+    export = module(addon, "keys.export")
     if again:
         addon.bake_for_export([strip])
     before = state()
@@ -222,7 +222,7 @@ def test_unexpected_error_in_a_bake_step_stops_the_job(addon):
 
 
 def test_live_handler_error_turns_live_off_once_and_keeps_the_keys(addon, monkeypatch, capsys):
-    live = module(addon, "bake.live")
+    live = module(addon, "keys.live")
     obj = bent_strip()
     addon.set_live(obj, target="Bend", factor=0.5)
     obj.bdi.live_factor = 0.6
@@ -240,7 +240,7 @@ def test_live_handler_error_turns_live_off_once_and_keeps_the_keys(addon, monkey
 
 
 def test_live_handler_that_cannot_switch_off_leaves_the_object_alone(addon, monkeypatch, capsys):
-    live = module(addon, "bake.live")
+    live = module(addon, "keys.live")
     obj = bent_strip()
     addon.set_live(obj, target="Bend", factor=0.5)
     on_update = fail_at(1, RuntimeError("injected"))(live._on_update)
