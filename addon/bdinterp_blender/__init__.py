@@ -16,8 +16,8 @@ MODULES = ("core", "names", "actions", "timing", "changes",
            "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
            "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.live",
-           "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.locate",
-           "view.drawing_bind",
+           "view.overlay", "view.distortion", "view.motion_trails", "view.ghosts", "view.onion",
+           "view.locate", "view.drawing_bind",
            "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators", "ui.panels")
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first

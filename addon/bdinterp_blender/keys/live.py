@@ -8,7 +8,9 @@ solve, a comparison of the factor/weights with the last ones written, and the fo
 cache is rebuilt when a setting changes and re-checked (the input keys re-read and compared)
 when the depsgraph reports the object's shape keys updated (writes made in frame_change_post,
 i.e. during playback, are not reported, so playback never pays for the check).
-On any error live mode turns itself off for that object with one message (console + panel).
+On any error live mode turns itself off for that object with one message (console + panel); an
+object whose error could not even switch it off (Blender forbids writes in some handlers) is left
+alone by the handlers until live mode is switched on again, so that no error repeats every frame.
 """
 
 from collections import namedtuple
@@ -41,6 +43,7 @@ class State:
 
 
 _states = {}   # object name -> State
+_failed = set()  # names of objects whose live mode failed: the handlers leave them alone
 _suspended = []  # non-empty while api.set_live writes several settings: no recompute per write
 
 
@@ -192,12 +195,13 @@ def write(obj, state, values, result):
     """Write `result` into obj's live key (created if missing); a character's world result into
     each of its objects' live keys, in the object's own coordinates."""
     objs = _objects(obj, state)
-    if state.members:
+    if state.members:  # every object's coordinates before any is written
         offsets = state.inp.offsets
-        for o, a, b in zip(objs, offsets[:-1], offsets[1:]):
-            write_key(o, state.inp.names[0], character.to_local(o, result[a:b]))
+        local = [character.to_local(o, result[a:b]) for o, a, b in zip(objs, offsets[:-1], offsets[1:])]
     else:
-        write_key(obj, state.inp.names[0], result)
+        local = [result]
+    for o, co in zip(objs, local):
+        write_key(o, state.inp.names[0], co)
     state.values = values
 
 
@@ -217,16 +221,32 @@ def write_key(obj, source, co):
 
 
 def turn_off(obj, exc):
-    message = "bdinterp: live mode turned off for %s: %s" % (obj.name, exc)
-    obj.bdi.live_error = message
+    """Live mode off for obj after exc, said once (console and panel)."""
+    message = "bdinterp: live mode turned off for %s: %s" % (obj.name, _said(exc))
+    _failed.add(obj.name)
     _states.pop(obj.name, None)
-    obj.bdi.live = False  # on_toggle does nothing when switching off
     print(message)
+    try:
+        obj.bdi.live_error = message
+        obj.bdi.live = False  # on_toggle does nothing when switching off
+    except Exception:  # noqa: BLE001 -- no writes here: _failed keeps the handlers off it
+        pass
+
+
+def _said(exc):
+    return str(exc) if isinstance(exc, (ValueError, RuntimeError)) else "%s: %s" % (type(exc).__name__, exc)
 
 
 def _safe_update(obj, depsgraph=None, force=False):
+    _guarded(obj, lambda: update(obj, depsgraph, force))
+
+
+def _guarded(obj, work):
+    """work() for obj's live mode unless it failed before; any error turns it off, once."""
+    if obj.name in _failed:
+        return
     try:
-        update(obj, depsgraph, force)
+        work()
     except Exception as exc:  # noqa: BLE001 -- any failure must switch live mode off, once
         turn_off(obj, exc)
 
@@ -235,6 +255,7 @@ def on_toggle(obj):
     if _suspended:
         return
     if obj.bdi.live:
+        _failed.discard(obj.name)
         obj.bdi.live_error = ""
         _from_selection(obj)
         _safe_update(obj, force=True)
@@ -268,6 +289,7 @@ def suspended():
 def switch_on(obj, state, values, result):
     """Live mode on with a prepared State and its first result (see api.set_live)."""
     _states[obj.name] = state
+    _failed.discard(obj.name)
     with suspended():
         obj.bdi.live, obj.bdi.live_error = True, ""
     write(obj, state, values, result)
@@ -282,17 +304,21 @@ def _keys_edited(obj, state, edited):
                and o.data.shape_keys.name in edited for o in _objects(obj, state))
 
 
+def _on_update(obj, edited, depsgraph):
+    state = _states.get(obj.name)
+    if state is not None and _keys_edited(obj, state, edited):
+        # Our own write of the live key is reported too (at the next update), and an edit made
+        # by a script before this evaluation looks the same: re-check (the input keys'
+        # foreach_get, ~0.7 ms per key at 20k vertices) rather than trust a flag.  Writes made on
+        # a frame change (playback) are not reported: playback never pays for it.
+        state.dirty = True
+    update(obj, depsgraph)
+
+
 def on_changes(scene, depsgraph, changed):
     """Every frame change and depsgraph update (changes.py): recompute what changed."""
     for obj in _live_objects(scene):
-        state = _states.get(obj.name)
-        if state is not None and _keys_edited(obj, state, changed.keys):
-            # Our own write of the live key is reported too (at the next update), and an edit
-            # made by a script before this evaluation looks the same: re-check (the input keys'
-            # foreach_get, ~0.7 ms per key at 20k vertices) rather than trust a flag.  Writes
-            # made on a frame change (playback) are not reported: playback never pays for it.
-            state.dirty = True
-        _safe_update(obj, depsgraph)
+        _guarded(obj, lambda obj=obj: _on_update(obj, changed.keys, depsgraph))
 
 
 @persistent
@@ -304,6 +330,7 @@ def on_undo(*_args):
 @persistent
 def on_load(*_args):
     _states.clear()  # object names may now mean other objects
+    _failed.clear()
     for scene in bpy.data.scenes:
         for obj in _live_objects(scene):
             print("bdinterp: %s in scene %s %s" % (obj.name, scene.name, LIVE_WARNING))
@@ -329,3 +356,4 @@ def unregister():
         if fn in handlers:
             handlers.remove(fn)
     _states.clear()
+    _failed.clear()

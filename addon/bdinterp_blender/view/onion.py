@@ -6,6 +6,9 @@ matrix.  A redraw after a change compares a cheap request key (objects, settings
 epoch bumped when the keys' data change) and only recolours; a new view setting solves only
 factors the Path has not solved.  Key data are re-read only when a drawn object's keys are
 reported edited by someone else than the add-on (changes.py), never on playback or live frames.
+An error while computing the ghosts is shown in the panel; one elsewhere in a redraw or the
+handler is printed once and the overlay leaves that object alone until a view setting changes or
+a file is loaded (no error repeats every redraw).
 """
 
 import hashlib
@@ -17,12 +20,14 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty
 
 from . import motion_trails
+from .ghosts import Ghosts, build, factor_at, selected_vertices
 from .. import changes
 from ..shapes import mesh_io
-from ..names import LIVE_KEY, SEP
+from ..names import LIVE_KEY
 
 
 def _redraw(self=None, context=None):
+    _failed.clear()  # a view setting changed: try the objects that failed again
     invalidate()
     for window in getattr(bpy.context.window_manager, "windows", ()):
         for area in window.screen.areas:
@@ -66,32 +71,6 @@ class BDI_ViewProps(bpy.types.PropertyGroup):
     trail_color: _color("Trail", (1.0, 0.85, 0.2))
 
 
-class Ghosts:
-    """Everything the overlay draws, in the coordinates the Path solves in (`matrix`: the drawn
-    object's world matrix for one object, read when drawn; None for a character, solved in world
-    coordinates): shapes (j, n, 3) at factors (j,), faces (m, 3), outline edges (e, 2), trails
-    (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider (owner object name, property) whose
-    value is the current factor; an error message; the motion_trails.Path solved.  Ghosts of
-    frames have `offsets` (j,) in frames from the current one and `span` (their tint fades over
-    it)."""
-
-    def __init__(self, **kw):
-        import numpy as np
-        empty = np.empty((0, 0, 3))
-        self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
-        self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
-        self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
-        self.__dict__.update(kw)
-
-    def in_world(self, points):
-        """points (..., 3) of these Ghosts in world coordinates, as drawn now."""
-        return self.path.world(points) if self.path is not None else points
-
-    def matrix(self):
-        """The model matrix the ghosts are drawn with (None: identity)."""
-        return self.path.objs[0].matrix_world if self.path is not None and self.path.local else None
-
-
 def drawn_objects(context):
     """The active mesh with a target set, then the selected meshes that have its target key (a
     character, as a bake solves it); [] when there is nothing to draw."""
@@ -102,102 +81,6 @@ def drawn_objects(context):
         return []
     from ..keys.character import members, selected_meshes
     return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
-
-
-def _factor_of(name):
-    """0.5 of 'Arm.bdi.050' (the factor is in the key's name), None if it is not in it."""
-    try:
-        return float(name.rsplit(SEP, 1)[1]) / 100.0
-    except (IndexError, ValueError):
-        return None
-
-
-def outline(faces):
-    """(e, 2) the edges of `faces` that bound only one triangle: each piece's outline."""
-    import numpy as np
-    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
-    return unique[counts == 1]
-
-
-def selected_vertices(objs):
-    """Indices (across the objects, one after the other) of their selected vertices."""
-    import numpy as np
-    out, offset = [], 0
-    for obj in objs:
-        sel = np.zeros(len(obj.data.vertices), dtype=bool)
-        obj.data.vertices.foreach_get("select", sel)
-        out.append(np.flatnonzero(sel) + offset)
-        offset += len(sel)
-    return np.concatenate(out)
-
-
-def build(objs, view, frame=None, path=None):
-    """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
-    scene's `frame`; `path`: the motion_trails.Path of the same objects and settings, if one was
-    made already (the frames it solved are not solved again)."""
-    import numpy as np
-    if path is None:
-        path = motion_trails.Path(objs, with_solver=view.trails or view.ghost_source != 'BAKED')
-    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
-    baked, names = path.baked_solved()
-    if path.found is not None:
-        out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
-    if view.ghosts and view.ghost_source == 'BAKED':
-        factors = [_factor_of(n) for n in names]
-        if None in factors:  # names not made by a bake: evenly spaced
-            factors = list(np.arange(1, len(names) + 1) / (len(names) + 1.0))
-        out.shapes, out.factors = baked, factors
-    elif view.ghosts and view.ghost_source == 'FRAMES':
-        frame_ghosts(out, objs, view, frame)
-    elif view.ghosts:
-        ts = np.arange(view.step, 1.0 - 1e-9, view.step)
-        out.shapes, out.factors = path.solved(ts), list(ts)
-    if view.trails:
-        trail_points(out, path, view, baked)
-    return out
-
-
-def frame_ghosts(out, objs, view, frame):
-    """Set out's ghosts of the frames around `frame` (offsets, span, factors, shapes)."""
-    import numpy as np
-    step = view.frame_step
-    out.offsets = [-k * step for k in range(view.frames_before, 0, -1)] + \
-        [k * step for k in range(1, view.frames_after + 1)]
-    out.span = (max(view.frames_before, view.frames_after) + 1) * step
-    out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
-    out.shapes = out.path.solved(out.factors) if out.offsets else np.empty((0, out.path.size, 3))
-
-
-def trail_points(out, path, view, baked):
-    """Set out.trails, ticks and chords: the paths of the trail vertices of `view`."""
-    import numpy as np
-    v = None
-    if view.trail_vertices == 'SELECTED':
-        v = selected_vertices(path.objs)
-        if not len(v):
-            raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
-    v = path.vertices(v)
-    out.trails = path.solved(np.linspace(0.0, 1.0, view.samples))[:, v]
-    out.ticks = baked[:, v]
-    out.chords = out.trails[[0, -1]]
-
-
-def factor_at(objs, slider, frame=None):
-    """The factor shown at `frame` (None: now): live mode's factor, else the slider's (owner
-    object name, property) or 0; at another frame as its F-curve has it (a constant without)."""
-    from ..actions import find_fcurve
-    props = objs[0].bdi
-    if props.live and props.live_mode == 'INTERPOLATE':
-        owner, data_path, value = objs[0], "bdi.live_factor", props.live_factor
-    else:
-        owner = bpy.data.objects.get(slider[0]) if slider is not None else None
-        if owner is None:
-            return 0.0
-        data_path = '["%s"]' % bpy.utils.escape_identifier(slider[1])
-        value = float(owner.get(slider[1], 0.0))
-    curve = find_fcurve(owner.animation_data, data_path) if frame is not None else None
-    return min(1.0, max(0.0, curve.evaluate(frame) if curve is not None else value))
 
 
 def solve_key(objs):
@@ -225,22 +108,20 @@ def request_key(objs, view):
 
 counters = Counter()  # for the tests: keys' data 'hashed', Ghosts 'built', 'batches', 'plans' made
 _epoch = [0]        # bumped when the data of a drawn object's keys change
-_signatures = {}    # object name -> hash of the keys its Path reads, and of its topology
+_signatures = {}    # object name -> hash of its keys' data (but the live key) and its faces
+_failed = {}        # object name -> the error that stopped drawing its overlay (printed once)
 _cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
 
 
-def key_signature(obj, path):
-    """A hash of what obj's keys give the Path: the data of the keys it reads (input, reference,
-    relative and baked keys, never the live key) and the mesh's faces."""
+def key_signature(obj):
+    """A hash of obj's keys' data (but the live key's) and of its mesh's faces."""
     import numpy as np
     counters["hashed"] += 1
     key, h = obj.data.shape_keys, hashlib.sha1()
-    names = set(path.inp.names) | set(path.found.keys if path.found is not None else ())
-    blocks = [kb for kb in key.key_blocks if kb.name in names] if key else []
-    blocks += [kb.relative_key for kb in blocks] + ([key.reference_key] if key else [])
-    for kb in dict.fromkeys(b for b in blocks if b.name != LIVE_KEY):
-        h.update(kb.name.encode() + kb.vertex_group.encode())
-        h.update(mesh_io.read_raw(kb).tobytes())
+    for kb in key.key_blocks if key else ():
+        if kb.name != LIVE_KEY:
+            h.update(kb.name.encode() + kb.vertex_group.encode() + kb.relative_key.name.encode())
+            h.update(mesh_io.read_raw(kb).tobytes())
     loops = np.empty(len(obj.data.loops), dtype=np.int32)
     obj.data.loops.foreach_get("vertex_index", loops)
     h.update(loops.tobytes())
@@ -261,15 +142,17 @@ def current(context):
         path = old.path if same else None
         _cache["key"], _cache["batches"] = key, None
         try:
-            _cache["ghosts"] = build(objs, view, key[-1], path)
             if path is None:  # a new Path: what its keys hold now
-                for o in _cache["ghosts"].path.objs:
-                    _signatures[o.name] = key_signature(o, _cache["ghosts"].path)
+                for o in objs:
+                    _signatures[o.name] = key_signature(o)
+            _cache["ghosts"] = build(objs, view, key[-1], path)
             counters["built"] += 1
             _cache["batches"] = overlay.batches(_cache["ghosts"])
             counters["batches"] += 1
-        except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
-            _cache["ghosts"] = Ghosts(error=str(exc))
+        except Exception as exc:  # noqa: BLE001 -- any error is shown in the panel, once computed
+            said = str(exc) if isinstance(exc, (ValueError, RuntimeError)) else "%s: %s" % (
+                type(exc).__name__, exc)
+            _cache["ghosts"] = Ghosts(error=said)
     return objs, _cache["ghosts"], _cache["batches"]
 
 
@@ -300,11 +183,29 @@ def plan(context):
 timings = deque(maxlen=512)
 
 
+def _fail(name, exc):
+    message = "bdinterp: onion skins and trails of %s stopped: %s: %s" % (name, type(exc).__name__, exc)
+    _failed[name] = message
+    _cache.update(plan=False)
+    print(message)
+
+
 def draw_callback():
-    """A redraw: the Plan as it is, unless a handler said something changed since (or another
-    object became active)."""
+    """A redraw (see _draw), never raising: an error stops the overlay of the active object."""
+    obj = bpy.context.object
+    name = getattr(obj, "name", "")
+    if name in _failed:
+        return
+    try:
+        _draw(bpy.context)
+    except Exception as exc:  # noqa: BLE001 -- said once, not on every redraw
+        _fail(name, exc)
+
+
+def _draw(context):
+    """The Plan as it is, unless a handler said something changed since (or another object
+    became active)."""
     started = time.perf_counter()
-    context = bpy.context
     if _cache["plan"] is None or context.object != _cache["active"]:
         if getattr(context.scene, "bdi_view", None) is None:
             return
@@ -319,28 +220,38 @@ def on_changes(_scene, _depsgraph, changed):
     edited by someone else than the add-on (its live key's writes are known and skipped) and
     holding other data than the Path read: bump the epoch, so that the Path is made again."""
     invalidate()
-    ghosts = _cache["ghosts"]
     edited = changed.edited_keys()
-    if ghosts is None or ghosts.path is None or not edited:
-        return
-    for name in _cache["key"][0][0]:
-        obj = bpy.data.objects.get(name)
-        key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
-        if key is not None and key.name in edited \
-                and _signatures.get(obj.name) != key_signature(obj, ghosts.path):
-            _epoch[0] += 1
-            return
+    names = [n for n in (_cache["key"][0][0] if _cache["key"] else ()) if n not in _failed]
+    for name in names if edited else ():
+        try:
+            if _edited(bpy.data.objects.get(name), edited):
+                _epoch[0] += 1
+                return
+        except Exception as exc:  # noqa: BLE001 -- said once, not on every update
+            _fail(name, exc)
+
+
+def _edited(obj, keys):
+    """True if obj's shape keys are among `keys` (names) and changed since last hashed."""
+    key = getattr(getattr(obj, "data", None), "shape_keys", None)
+    return key is not None and key.name in keys and _signatures.get(obj.name) != key_signature(obj)
 
 
 @persistent
-def on_load(*_args):
+def forget(*_args):
+    """After an undo the keys may hold anything and the Path's objects are gone: start afresh."""
     _cache.update(key=None, ghosts=None, batches=None, plan=None, active=None)
     _signatures.clear()
 
 
+@persistent
+def on_load(*_args):
+    forget()
+    _failed.clear()
+
+
 _handle = []
-# After an undo the keys may hold anything and the Path's objects are gone: start afresh.
-HANDLERS = ((bpy.app.handlers.undo_post, on_load), (bpy.app.handlers.redo_post, on_load),
+HANDLERS = ((bpy.app.handlers.undo_post, forget), (bpy.app.handlers.redo_post, forget),
             (bpy.app.handlers.load_post, on_load))
 
 
@@ -396,5 +307,8 @@ def draw_settings(layout, context):
     row = layout.row(align=True)  # greyed out before Blender 4.3, the tooltip says why
     row.operator("bdinterp.bind_drawing", icon='GREASEPENCIL')
     row.operator("bdinterp.bind_drawing", text="", icon='X').unbind = True
+    failed = _failed.get(getattr(context.object, "name", ""))
+    if failed:
+        return failed
     ghosts = _cache["ghosts"] if _cache["key"] is not None and (view.ghosts or view.trails) else None
     return ghosts.error if ghosts is not None and ghosts.error else ""
