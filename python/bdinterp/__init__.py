@@ -10,6 +10,9 @@ Public API (numpy in, numpy out):
     flipped_faces(source, result, faces)
     mesh_from_image(image, *, threshold, spacing, detail, padding, min_angle, min_area) -> SpriteMesh
         (a triangle mesh of a sprite's alpha)
+    pose_grid: Parameter, PoseGrid (poses on a grid of parameter values: multilinear weights,
+        wrapping angles, clamping), PoseBlender (groups of them combined, blended by one Interpolator)
+    pose_bake: GridBake (a grid's in-betweens on a finer grid for linear runtimes, and their error)
     Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
     AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
     threading_info() (usable cores, the busy verdict, the BLAS/OpenMP runtimes CHOLMOD calls)
@@ -21,6 +24,8 @@ from .constants import METHOD_LABELS, METHODS, PLANAR_TOLERANCE
 from .errors import InvalidInputError
 from .distortion import area_ratio, conformal_distortion, flipped_faces
 from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
+from . import pose_bake, pose_grid
+from .pose_grid import Parameter, PoseBlender, PoseGrid
 from .layers import Layers
 from .plane import Plane
 from .sprite import SpriteMesh, mesh_from_image
@@ -29,4 +34,5 @@ __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
-           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh", "__version__"]
+           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh", "__version__",
+           "pose_grid", "pose_bake", "Parameter", "PoseGrid", "PoseBlender"]
