@@ -6,7 +6,7 @@ Modules import one way, lower layers only (tests/blender/test_structure.py): cor
 -> timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve (shapes ->
 frames, no writes) -> playback, distortion, sprite_mesh -> baking, export, layered_import (each
 module of these two layers writes one kind of thing) -> character (several objects baked as one)
--> live -> api (the scripting facade), motion_trails, drawing_bind -> properties, operators,
+-> live -> params (pose grids) -> api (the scripting facade), motion_trails, drawing_bind -> properties, operators,
 onion -> ui -> this file (registration).
 """
 
@@ -46,11 +46,13 @@ from .sprite_mesh import mesh_from_image  # noqa: E402
 from .layered_import import import_layered  # noqa: E402
 from .motion_trails import trails  # noqa: E402
 from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
+from .params.setup import drive_by_bone, pose_grid, remove_pose_grid  # noqa: E402
+from .params.bake_grid import bake_grid  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing"]
+           "bind_drawing", "unbind_drawing", "pose_grid", "drive_by_bone", "remove_pose_grid", "bake_grid"]
 
 _modules = []
 
@@ -66,7 +68,9 @@ def register():
         _modules = [ui.degraded]
     else:
         from . import properties, onion, drawing_bind, operators, live as live_mod, sprite_mesh, layered_import
-        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
+        from . import params
+        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
+                    params]
     for mod in _modules:
         mod.register()
 

@@ -199,12 +199,13 @@ def write(obj, state, values, result):
     state.values = values
 
 
-def write_key(obj, source, co):
-    """Write co into obj's live key (created if missing), relative to the key `source`."""
+def write_key(obj, source, co, name=LIVE_KEY):
+    """Write co into obj's key `name` (default: the live key; created if missing, value 1),
+    relative to the key `source`."""
     key = obj.data.shape_keys
-    kb = key.key_blocks.get(LIVE_KEY)
+    kb = key.key_blocks.get(name)
     if kb is None:
-        kb = obj.shape_key_add(name=LIVE_KEY, from_mix=False)
+        kb = obj.shape_key_add(name=name, from_mix=False)
     if kb.relative_key.name != source:
         kb.relative_key = key.key_blocks[source]
     if kb.value != 1.0:
@@ -327,8 +328,9 @@ HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
             (bpy.app.handlers.load_post, on_load))
 
 
-def register():
-    for handlers, fn in HANDLERS:
+def add_handlers(pairs):
+    """Append each (handler list, function) of pairs, replacing stale copies of the function."""
+    for handlers, fn in pairs:
         # Drop stale copies left by an earlier load of this module (add-on reload).
         for h in [h for h in handlers if getattr(h, "__name__", "") == fn.__name__
                   and getattr(h, "__module__", "") == fn.__module__]:
@@ -336,8 +338,16 @@ def register():
         handlers.append(fn)
 
 
-def unregister():
-    for handlers, fn in HANDLERS:
+def remove_handlers(pairs):
+    for handlers, fn in pairs:
         if fn in handlers:
             handlers.remove(fn)
+
+
+def register():
+    add_handlers(HANDLERS)
+
+
+def unregister():
+    remove_handlers(HANDLERS)
     _states.clear()

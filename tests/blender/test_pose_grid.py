@@ -1,0 +1,186 @@
+"""Pose grids: parameters set up by the API, keyframed, driven by a bone, followed live; missing
+nodes refused with nothing changed; fill; undo of the setup."""
+
+import itertools
+import math
+
+import bpy
+import numpy as np
+import pytest
+
+from conftest import add_key, evaluated_co, grid, key_names, mesh_object, read_key, triangles
+
+BENDS, THICKS = (-60, 0, 60), (-1, 0, 1)
+
+
+def posed(V, bend, thick):
+    """The strip [0, 2] x [0, 0.4] thickened by 1 + 0.25 thick, bent by `bend` degrees."""
+    y = (V[:, 1] - 0.2) * (1 + 0.25 * thick)
+    a = math.radians(bend)
+    if a == 0:
+        return np.c_[V[:, 0], y + 0.2, V[:, 2]]
+    r0 = 2.0 / a
+    r = r0 - y
+    return np.c_[r * np.sin(V[:, 0] / r0), 0.2 + r0 - r * np.cos(V[:, 0] / r0), V[:, 2]]
+
+
+def strip(skip=()):
+    verts, quads = grid(16, 4, 2.0, 0.4)
+    obj = mesh_object("Strip", verts, quads)
+    obj.shape_key_add(name="Basis", from_mix=False)
+    keys = {}
+    for b, t in itertools.product(BENDS, THICKS):
+        if (b, t) in skip:
+            continue
+        keys[(b, t)] = "Basis" if (b, t) == (0, 0) else "B%d_T%d" % (b, t)
+        if (b, t) != (0, 0):
+            add_key(obj, keys[(b, t)], posed(verts, b, t))
+    return obj, keys
+
+
+def hand_weights(keys, bend, thick):
+    """Bilinear weights on the names of the cell's corners, computed here from the node values."""
+    def cell(values, x):
+        x = min(max(x, values[0]), values[-1])
+        i = min(np.searchsorted(values, x, side="right") - 1, len(values) - 2)
+        return i, (x - values[i]) / (values[i + 1] - values[i])
+    (i, s), (j, t) = cell(BENDS, bend), cell(THICKS, thick)
+    out = {}
+    for di, dj, w in ((0, 0, (1 - s) * (1 - t)), (1, 0, s * (1 - t)), (0, 1, (1 - s) * t), (1, 1, s * t)):
+        name = keys[(BENDS[i + di], THICKS[j + dj])]
+        out[name] = out.get(name, 0.0) + w
+    return out
+
+
+def expected(bd, obj, keys, bend, thick):
+    w = hand_weights(keys, bend, thick)
+    names = ["Basis"] + [n for n in w if n != "Basis"]
+    shapes = [read_key(obj, n) for n in names]
+    return bd.blend(shapes, triangles(obj), [w.get(n, 0.0) for n in names])
+
+
+def armature():
+    arm = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
+    bpy.context.scene.collection.objects.link(arm)
+    bpy.context.view_layer.objects.active = arm
+    bpy.ops.object.mode_set(mode='EDIT')
+    bone = arm.data.edit_bones.new("Neck")
+    bone.head, bone.tail = (0, 0, 0), (0, 1, 0)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    arm.pose.bones["Neck"].rotation_mode = 'XYZ'
+    return arm
+
+
+def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
+    obj, keys = strip()
+    paths = addon.pose_grid(obj, params={"bend": list(BENDS), "thick": list(THICKS)}, keys=keys,
+                            name="head")
+    assert paths == {"bend": 'bdi_grids["head"].params["bend"].value',
+                     "thick": 'bdi_grids["head"].params["thick"].value'}
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    for frame, value in ((1, -60.0), (11, 50.0)):
+        obj.path_resolve(paths["bend"].rsplit(".", 1)[0]).value = value
+        obj.keyframe_insert(paths["bend"], frame=frame)
+    arm = armature()
+    addon.drive_by_bone(obj, "head", "thick", arm, "Neck", axis="Z", angles=(-45, 45))
+    curve = obj.animation_data.action.fcurves.find(paths["bend"])
+    for frame, degrees in ((1, 0.0), (4, 20.0), (8, -70.0), (11, 30.0)):
+        arm.pose.bones["Neck"].rotation_euler.z = math.radians(degrees)
+        bpy.context.scene.frame_set(frame)
+        bend, thick = curve.evaluate(frame), -1 + (degrees + 45) / 90 * 2
+        got = evaluated_co(obj)
+        assert np.abs(got - expected(bd, obj, keys, bend, thick)).max() <= 1e-6 * size, frame
+    assert not obj.bdi_grid_error
+
+
+def test_script_sets_a_parameter_by_its_path(addon, bd):
+    obj, keys = strip()
+    paths = addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    item = obj.path_resolve(paths["thick"].rsplit(".", 1)[0])
+    item.value = 0.5
+    obj.bdi_grids["head"].params["bend"].value = -25.0
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, -25, 0.5)).max() <= 1e-6 * size
+    # clamped outside the grid: the corner pose itself
+    item.value = 7.0
+    obj.bdi_grids["head"].params["bend"].value = 99.0
+    assert np.abs(evaluated_co(obj) - read_key(obj, "B60_T1")).max() <= 1e-6 * size
+
+
+def test_missing_node_refused_with_nothing_changed(addon):
+    obj, keys = strip(skip={(60, 1)})
+    before = key_names(obj)
+    with pytest.raises(addon.BakeError, match=r"node \(bend=60, thick=1\) has no shape key"):
+        addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    keys[(60, 1)] = "No such key"
+    with pytest.raises(addon.BakeError, match="names the shape key 'No such key'"):
+        addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    assert key_names(obj) == before and len(obj.bdi_grids) == 0
+
+
+def test_fill_makes_the_missing_node_and_reports_it(addon, bd):
+    obj, keys = strip(skip={(60, 0)})
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head", fill=True)
+    made = "head(bend=60, thick=0)"
+    assert made in key_names(obj) and made in obj.bdi_grids["head"].made
+    # made from its column neighbours (60, -1) and (60, 1): the core's blend of those halves
+    want = bd.blend([read_key(obj, n) for n in ("Basis", "B60_T-1", "B60_T1")], triangles(obj),
+                    [0.0, 0.5, 0.5])
+    assert np.abs(read_key(obj, made) - want).max() <= 1e-6
+
+
+def test_undo_removes_the_setup(addon):
+    obj, keys = strip()
+    before = key_names(obj)
+    bpy.ops.ed.undo_push(message="before grid")
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    bpy.ops.ed.undo_push(message="grid")
+    assert len(obj.bdi_grids) == 1 and "bdi.pose" in key_names(obj)
+    bpy.ops.ed.undo()
+    obj = bpy.data.objects["Strip"]
+    assert len(obj.bdi_grids) == 0 and key_names(obj) == before
+
+
+def test_two_groups_and_a_wrap_on_two_objects(addon, bd):
+    obj, keys = strip()
+    other, _ = strip()
+    wide = read_key(obj, "Basis") * [1.0, 1.5, 1.0]
+    for o in (obj, other):
+        add_key(o, "Wide", wide)
+        add_key(o, "Turn90", posed(read_key(obj, "Basis"), 40, 0))
+        add_key(o, "Turn180", posed(read_key(obj, "Basis"), 0, -1))
+        add_key(o, "Turn270", posed(read_key(obj, "Basis"), -40, 0))
+    addon.pose_grid([obj, other], {"open": [0, 1]}, {0: "Basis", 1: "Wide"}, name="mouth")
+    addon.pose_grid(obj, {"turn": {"values": [0, 90, 180, 270], "wrap": True}},
+                    {0: "Basis", 90: "Turn90", 180: "Turn180", 270: "Turn270"}, name="body")
+    obj.bdi_grids["mouth"].params["open"].value = 0.5
+    obj.bdi_grids["body"].params["turn"].value = 315.0  # half way from 270 back to 0 (360)
+    names = ["Basis", "Wide", "Turn270"]
+    # each group's difference from the rest added: Basis -1 + (0.5 + 0.5), Wide 0.5, Turn270 0.5
+    want = bd.blend([read_key(obj, n) for n in names], triangles(obj), [0.0, 0.5, 0.5])
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    assert np.abs(evaluated_co(obj) - want).max() <= 1e-6 * size
+    # the other object follows the first one's mouth only
+    want = bd.blend([read_key(other, n) for n in names[:2]], triangles(other), [0.5, 0.5])
+    assert np.abs(evaluated_co(other) - want).max() <= 1e-6 * size
+
+
+def test_bake_grid_plays_linearly_within_its_error(addon, bd):
+    obj, keys = strip()
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    written, error = addon.bake_grid(obj, "head", n=2)
+    assert len(written) == 25 and 0 < error < 0.05
+    drivers = obj.data.shape_keys.animation_data.drivers
+    assert len(drivers) == 25 and all(fc.driver.is_simple_expression for fc in drivers)
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    params = obj.bdi_grids["head"].params
+    params["bend"].value, params["thick"].value = -45.0, 0.5  # mid-way between fine nodes 0 and 1
+    got = evaluated_co(obj)
+    # the keys' linear blend, by hand: bend -45 lies half way from fine node 0 (-60) to 1 (-30),
+    # thick 0.5 is fine node 3
+    want = 0.5 * read_key(obj, "head.bake.0_3") + 0.5 * read_key(obj, "head.bake.1_3")
+    assert np.abs(got - want).max() <= 1e-6 * size
+    exact = expected(bd, obj, keys, -45.0, 0.5)
+    assert np.linalg.norm(got - exact, axis=1).max() <= error * size * (1 + 1e-4) + 1e-6 * size
+    _, coarse = addon.bake_grid(obj, "head", n=1)
+    assert coarse > 2 * error  # the runtime's blend of the grid's own poses is worse
