@@ -3,6 +3,7 @@ nodes refused with nothing changed; fill; undo of the setup."""
 
 import itertools
 import math
+import os
 
 import bpy
 import numpy as np
@@ -96,6 +97,9 @@ def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
 def test_script_sets_a_parameter_by_its_path(addon, bd):
     obj, keys = strip()
     paths = addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    # a new grid starts at its rest node (the reference key's), showing the rest pose
+    assert [p.value for p in obj.bdi_grids["head"].params] == [0.0, 0.0]
+    assert np.abs(evaluated_co(obj) - read_key(obj, "Basis")).max() <= 1e-6
     item = obj.path_resolve(paths["thick"].rsplit(".", 1)[0])
     item.value = 0.5
     obj.bdi_grids["head"].params["bend"].value = -25.0
@@ -184,3 +188,49 @@ def test_bake_grid_plays_linearly_within_its_error(addon, bd):
     assert np.linalg.norm(got - exact, axis=1).max() <= error * size * (1 + 1e-4) + 1e-6 * size
     _, coarse = addon.bake_grid(obj, "head", n=1)
     assert coarse > 2 * error  # the runtime's blend of the grid's own poses is worse
+
+
+def test_grid_renders_with_blender_b_a(addon, bd, tmp_path):
+    """`blender -b file.blend -a` renders the grid's blend of each frame: the frames equal renders
+    of a plain file holding the expected shapes as keyframed shape keys."""
+    from conftest import fcurves, run_blender
+    from test_live import render_scene, rendered
+    tmp = str(tmp_path)
+    obj, keys = strip()
+    render_scene(obj)
+    bpy.data.objects["Cam"].location = (1.0, 0.5, 5.0)
+    paths = addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    bends = {1: -50.0, 2: -5.0, 3: 40.0}
+    for frame in (1, 3):
+        obj.bdi_grids["head"].params["bend"].value = bends[frame]
+        obj.keyframe_insert(paths["bend"], frame=frame)
+    for fc in fcurves(obj.animation_data):
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    bpy.context.scene.frame_set(1)
+    grid_path = os.path.join(tmp, "grid.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=grid_path)
+    addon.remove_pose_grid(obj, "head")  # the reference: the expected shapes as plain keys
+    for frame, bend in bends.items():
+        kb = add_key(obj, "Ref%d" % frame, expected(bd, obj, keys, bend, 0.0))
+        for f in bends:
+            kb.value = 1.0 if f == frame else 0.0
+            kb.keyframe_insert("value", frame=f)
+    for fc in fcurves(obj.data.shape_keys.animation_data):
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'CONSTANT'
+    ref_path = os.path.join(tmp, "ref.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=ref_path)
+    out = {}
+    for name, path, addons in (("grid", grid_path, ["--addons", "bdinterp_blender"]),
+                               ("ref", ref_path, [])):
+        folder = os.path.join(tmp, name)
+        proc = run_blender([path] + addons + ["-o", folder + "/f_####", "-a"], env_drop=())
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        assert "pose grid of" not in proc.stdout, proc.stdout[-2000:]
+        out[name] = rendered(folder)
+    assert len(out["grid"]) == len(out["ref"]) == 3
+    diff = [float(np.mean(np.abs(a - b) > 1e-3)) for a, b in zip(out["grid"], out["ref"])]
+    cross = [float(np.mean(np.abs(a - b) > 1e-3)) for a in out["grid"] for b in out["ref"]]
+    assert max(diff) < 0.002, (diff, cross)  # same picture (allow a stray pixel)
+    assert np.mean(np.abs(out["grid"][0] - out["grid"][2]) > 1e-3) > 0.01  # frames differ

@@ -36,12 +36,13 @@ def _parameter(pg, name, spec):
     return pg.Parameter(name, spec)
 
 
-def _grid(params, keys, name):
+def _grid(params, keys, name, rest):
     pg = solve.core().pose_grid
     if not name or not isinstance(name, str):
         raise BakeError("a pose grid needs a name, got %r" % (name,))
     try:
-        return pg.PoseGrid([_parameter(pg, n, s) for n, s in params.items()], keys, name=name)
+        return pg.PoseGrid([_parameter(pg, n, s) for n, s in params.items()], keys, name=name,
+                           rest=rest)
     except ValueError as exc:
         raise BakeError(str(exc)) from exc
 
@@ -102,7 +103,7 @@ def pose_grid(objs, params, keys, name="grid", fill=False):
     from the reference key added in the blended metric). The shape follows live in the key
     'bdi.pose'. Returns {parameter name: data path of its value on the first object}."""
     objs = _objects(objs)
-    grid = _grid(params, keys, name)
+    grid = _grid(params, keys, name, objs[0].data.shape_keys.reference_key.name)
     owner = objs[0]
     if owner.bdi_grids.get(name) is not None:
         raise BakeError("%s already has a pose grid %r; remove it first" % (owner.name, name))
