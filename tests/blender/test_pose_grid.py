@@ -234,3 +234,16 @@ def test_grid_renders_with_blender_b_a(addon, bd, tmp_path):
     cross = [float(np.mean(np.abs(a - b) > 1e-3)) for a in out["grid"] for b in out["ref"]]
     assert max(diff) < 0.002, (diff, cross)  # same picture (allow a stray pixel)
     assert np.mean(np.abs(out["grid"][0] - out["grid"][2]) > 1e-3) > 0.01  # frames differ
+
+
+def test_follows_an_edited_input_key(addon, bd):
+    obj, keys = strip()
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    params = obj.bdi_grids["head"].params
+    params["bend"].value, params["thick"].value = 30.0, 0.0
+    evaluated_co(obj)
+    kb = obj.data.shape_keys.key_blocks["B60_T0"]
+    kb.data.foreach_set("co", (read_key(obj, "B60_T0") * [1.0, 1.2, 1.0]).astype(np.float32).ravel())
+    obj.data.shape_keys.update_tag()
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, 30.0, 0.0)).max() <= 1e-6 * size

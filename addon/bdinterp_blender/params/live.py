@@ -78,6 +78,7 @@ class State:
     def __init__(self, obj):
         self.definition = definition(obj)
         self.error, self.values, self.dirty, self.members = "", None, False, []
+        self.pending = set()  # Keys we wrote that the next depsgraph update will report
         try:
             grids = {g.name: core_grid(g) for g in obj.bdi_grids}
             self.members = [Member(o, [grids[n] for n in names])
@@ -128,9 +129,10 @@ def compute(state, values):
     return out
 
 
-def update(obj, depsgraph=None, force=False):
+def update(obj, depsgraph=None, force=False, reported=True):
     """Recompute and write the pose key of obj's grid members if the values changed (or force);
-    returns True if it wrote. Errors are recorded (Object.bdi_grid_error), never raised."""
+    returns True if it wrote. reported: the next depsgraph update will report the write (not so
+    for writes in frame_change_post). Errors are recorded (Object.bdi_grid_error), never raised."""
     state = state_of(obj)
     if not state.error:
         values = points(obj.evaluated_get(depsgraph) if depsgraph is not None else obj)
@@ -140,8 +142,11 @@ def update(obj, depsgraph=None, force=False):
             return False
         try:
             for (name, blend), m in zip(compute(state, values), state.members):
-                live_mode.write_key(bpy.data.objects[name], m.rest, blend.shape, POSE_KEY)
+                target = bpy.data.objects[name]
+                live_mode.write_key(target, m.rest, blend.shape, POSE_KEY)
                 m.report = blend.report()
+                if reported:
+                    state.pending.add(target.data.shape_keys.name)
             state.values = values
         except (BakeError, RuntimeError) as exc:
             state.error = str(exc)
@@ -167,13 +172,19 @@ def _grid_objects(scene):
 
 
 def _mark_edited(depsgraph):
+    """Mark the States whose objects' Keys were updated by someone else dirty (their input keys
+    are then re-read and compared). Our own writes are reported too; one reported just after
+    our write is taken as ours: re-reading nine keys would cost more than the blend (8 ms of
+    36 at 5k vertices). So an input key edited by a script together with a parameter change, in
+    one update, is noticed at the next key edit or undo."""
     edited = {u.id.original.name for u in depsgraph.updates
               if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
     for state in _states.values():
-        if any(bpy.data.objects.get(m.name) is not None
-               and getattr(bpy.data.objects[m.name].data.shape_keys, "name", None) in edited
-               for m in state.members):
-            state.dirty = True  # our own write is reported too: the raw keys are compared
+        keys = {getattr(bpy.data.objects[m.name].data.shape_keys, "name", None)
+                for m in state.members if bpy.data.objects.get(m.name) is not None}
+        if (keys & edited) - state.pending:
+            state.dirty = True
+        state.pending.clear()
 
 
 @persistent
@@ -181,7 +192,7 @@ def on_frame_change(scene, depsgraph=None):
     if depsgraph is not None:
         _mark_edited(depsgraph)
     for obj in _grid_objects(scene):
-        update(obj, depsgraph)
+        update(obj, depsgraph, reported=False)  # writes in this handler are not reported
 
 
 @persistent
