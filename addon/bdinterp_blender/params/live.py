@@ -20,11 +20,11 @@ from ..settings import BakeSettings
 
 
 def definition(obj):
-    """The grids of obj as plain values (a change rebuilds the State)."""
+    """The grids of obj and its members' sizes as plain values (a change rebuilds the State)."""
     return tuple((g.name, tuple((p.name, p.values, p.wrap, p.period) for p in g.params),
                   tuple((n.index, n.key) for n in g.nodes),
                   tuple(m.obj.name for m in g.members if m.obj is not None))
-                 for g in obj.bdi_grids)
+                 for g in obj.bdi_grids) + tuple((o.name, len(o.data.vertices)) for o in members(obj))
 
 
 def core_grid(group):

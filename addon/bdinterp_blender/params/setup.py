@@ -131,6 +131,7 @@ def _commit(objs, grid, made):
             mesh_io.write_co(kb, co)
             print("bdinterp: pose grid %r: made %s" % (grid.name, name))
     owner = objs[0]
+    live.remove(owner)  # a State cached under this name may be another object's of the same name
     with live.suspended():
         _write_group(owner, grid, made[owner.name], objs[1:])
     state = live.state_of(owner)
