@@ -7,8 +7,8 @@ at that node; its value is the product of one hat function per parameter (simple
 expressions: no Python needed to play them). The live key 'bdi.pose' is muted so the baked keys
 are what shows."""
 
-from .. import mesh_io, solve
-from ..mesh_io import BakeError
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
 from ..names import POSE_KEY
 from . import live
 

@@ -13,10 +13,11 @@ from contextlib import contextmanager
 import bpy
 from bpy.app.handlers import persistent
 
-from .. import live as live_mode, mesh_io, solve
-from ..mesh_io import BakeError
+from ..bake import live as live_mode
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
 from ..names import POSE_KEY
-from ..settings import BakeSettings
+from ..shapes.settings import BakeSettings
 
 
 def definition(obj):

@@ -5,10 +5,10 @@ import math
 
 import bpy
 
-from .. import mesh_io, solve
-from ..mesh_io import BakeError
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
 from ..names import POSE_KEY
-from ..settings import BakeSettings
+from ..shapes.settings import BakeSettings
 from . import live
 
 
