@@ -317,7 +317,16 @@ class PoseBlender:
         poses = [np.asarray(shapes[k], dtype=float) for k in self.keys]
         self.interpolator = Interpolator(poses, faces, base=0, **options)
         self.faces, self.rest_shape = faces, poses[0]
-        self.k_poses = np.max([conformal_distortion(poses[0], p, faces) for p in poses], axis=0)
+        flat = [self._flat(p) for p in poses]
+        self._rest_flat = flat[0]
+        self.k_poses = np.max([conformal_distortion(flat[0], p, faces) for p in flat], axis=0)
+
+    def _flat(self, X):
+        """X in the plane coordinates the core works in (3D input: each piece in its layer)."""
+        layers, plane = self.interpolator.layers, self.interpolator.plane
+        if layers is not None:
+            return layers.to_plane([X])[0]
+        return plane.to_plane(X, "shape") if plane is not None else X
 
     def weights(self, points):
         """{key: weight} for points {group name: point} (a group left out stays at rest)."""
@@ -345,9 +354,9 @@ class PoseBlender:
         return self._extrapolated(asked)
 
     def _measure(self, out):
-        k = conformal_distortion(self.rest_shape, out.shape, self.faces)
-        out.k_max = float(np.max(k))
-        out.flipped = int(flipped_faces(self.rest_shape, out.shape, self.faces))
+        flat = self._flat(out.shape)
+        out.k_max = float(np.max(conformal_distortion(self._rest_flat, flat, self.faces)))
+        out.flipped = int(flipped_faces(self._rest_flat, flat, self.faces))
         return out
 
     def _try(self, weights, asked, scale):

@@ -247,3 +247,32 @@ def test_follows_an_edited_input_key(addon, bd):
     obj.data.shape_keys.update_tag()
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, 30.0, 0.0)).max() <= 1e-6 * size
+
+
+def test_face_example_combines_its_groups(addon, bd):
+    """examples/face: three grids on six layered pieces; a mouth opened on a turned head and a
+    turned body is the core's blend of the three groups' differences from the rest."""
+    import sys
+    from conftest import ROOT
+    sys.path.insert(0, os.path.join(ROOT, "examples", "face"))
+    import face_blender
+    import face_rig
+    obj, paths = face_blender.build()
+    assert paths["body"] == {"turn": 'bdi_grids["body"].params["turn"].value'}
+    grids = obj.bdi_grids
+    grids["head"].params["angle_x"].value = 20.0
+    grids["mouth"].params["open"].value = 1.0
+    grids["body"].params["turn"].value = -45.0  # = 315: half way from 270 back to 0
+    bpy.data.objects["Rig"].pose.bones["Neck"].rotation_euler.z = math.radians(-15)  # angle_y 15
+    bpy.context.scene.frame_set(1)
+    # by hand: head (20, 15): 2/3 x 1/2 of each corner of the cell (0..30) x (0..30); then each
+    # group's difference from the rest: Basis loses 1 per extra group
+    w = {"Basis": 1 / 6 - 2.0, "Head_+30_+0": 1 / 3, "Head_+0_+30": 1 / 6, "Head_+30_+30": 1 / 3,
+         "Mouth_open": 1.0, "Body_270": 0.5}
+    w["Basis"] += 0.5  # body's half at its rest node (0)
+    shapes, faces, _ = face_rig.poses()
+    names = list(w)
+    want = bd.blend([read_key(obj, n) for n in names], triangles(obj), [w[n] for n in names])
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    assert np.abs(evaluated_co(obj) - want).max() <= 1e-6 * size
+    assert not obj.bdi_grid_error
