@@ -61,15 +61,12 @@ def expected(bd, obj, keys, bend, thick):
 
 
 def armature():
-    arm = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
-    bpy.context.scene.collection.objects.link(arm)
-    bpy.context.view_layer.objects.active = arm
-    bpy.ops.object.mode_set(mode='EDIT')
-    bone = arm.data.edit_bones.new("Neck")
-    bone.head, bone.tail = (0, 0, 0), (0, 1, 0)
-    bpy.ops.object.mode_set(mode='OBJECT')
-    arm.pose.bones["Neck"].rotation_mode = 'XYZ'
-    return arm
+    """A rig with the bone 'Neck' (examples/face's)."""
+    import sys
+    from conftest import ROOT
+    sys.path.insert(0, os.path.join(ROOT, "examples", "face"))
+    import face_blender
+    return face_blender.neck_rig()
 
 
 def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
@@ -193,8 +190,8 @@ def test_bake_grid_plays_linearly_within_its_error(addon, bd):
 def test_grid_renders_with_blender_b_a(addon, bd, tmp_path):
     """`blender -b file.blend -a` renders the grid's blend of each frame: the frames equal renders
     of a plain file holding the expected shapes as keyframed shape keys."""
-    from conftest import fcurves, run_blender
-    from test_live import render_scene, rendered
+    from conftest import fcurves
+    from test_live import reference_file, render_pair, render_scene
     tmp = str(tmp_path)
     obj, keys = strip()
     render_scene(obj)
@@ -211,29 +208,9 @@ def test_grid_renders_with_blender_b_a(addon, bd, tmp_path):
     grid_path = os.path.join(tmp, "grid.blend")
     bpy.ops.wm.save_as_mainfile(filepath=grid_path)
     addon.remove_pose_grid(obj, "head")  # the reference: the expected shapes as plain keys
-    for frame, bend in bends.items():
-        kb = add_key(obj, "Ref%d" % frame, expected(bd, obj, keys, bend, 0.0))
-        for f in bends:
-            kb.value = 1.0 if f == frame else 0.0
-            kb.keyframe_insert("value", frame=f)
-    for fc in fcurves(obj.data.shape_keys.animation_data):
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'CONSTANT'
-    ref_path = os.path.join(tmp, "ref.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=ref_path)
-    out = {}
-    for name, path, addons in (("grid", grid_path, ["--addons", "bdinterp_blender"]),
-                               ("ref", ref_path, [])):
-        folder = os.path.join(tmp, name)
-        proc = run_blender([path] + addons + ["-o", folder + "/f_####", "-a"], env_drop=())
-        assert proc.returncode == 0, proc.stderr[-2000:]
-        assert "pose grid of" not in proc.stdout, proc.stdout[-2000:]
-        out[name] = rendered(folder)
-    assert len(out["grid"]) == len(out["ref"]) == 3
-    diff = [float(np.mean(np.abs(a - b) > 1e-3)) for a, b in zip(out["grid"], out["ref"])]
-    cross = [float(np.mean(np.abs(a - b) > 1e-3)) for a in out["grid"] for b in out["ref"]]
-    assert max(diff) < 0.002, (diff, cross)  # same picture (allow a stray pixel)
-    assert np.mean(np.abs(out["grid"][0] - out["grid"][2]) > 1e-3) > 0.01  # frames differ
+    ref_path = reference_file(obj, {f: expected(bd, obj, keys, b, 0.0) for f, b in bends.items()},
+                              tmp)
+    render_pair(tmp, grid_path, ref_path, "pose grid of", differ=0.01)
 
 
 def test_follows_an_edited_input_key(addon, bd):

@@ -255,13 +255,18 @@ def on_property_change(obj):
 
 
 @contextmanager
-def suspended():
-    """Settings written inside do not recompute one by one (api.set_live writes several)."""
-    _suspended.append(True)
+def suspend(flags):
+    """Appends to the list `flags` while inside: a handler that sees it non-empty waits."""
+    flags.append(True)
     try:
         yield
     finally:
-        _suspended.pop()
+        flags.pop()
+
+
+def suspended():
+    """Settings written inside do not recompute one by one (api.set_live writes several)."""
+    return suspend(_suspended)
 
 
 def switch_on(obj, state, values, result):

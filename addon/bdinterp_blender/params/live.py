@@ -8,8 +8,6 @@ it was built from; a frame costs the weights, one blend per object and the write
 Object.bdi_grid_error and printed; the grid then waits for its definition or its keys to change.
 """
 
-from contextlib import contextmanager
-
 import bpy
 from bpy.app.handlers import persistent
 
@@ -92,14 +90,9 @@ _states = {}  # owner object name -> State
 _suspended = []  # non-empty while a grid is being written: no update per property
 
 
-@contextmanager
 def suspended():
     """Properties written inside do not update one by one (pose_grid writes a whole group)."""
-    _suspended.append(True)
-    try:
-        yield
-    finally:
-        _suspended.pop()
+    return live_mode.suspend(_suspended)
 
 
 def state_of(obj):

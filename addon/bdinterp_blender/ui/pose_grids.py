@@ -8,6 +8,7 @@ from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProp
 
 from ..shapes.mesh_io import BakeError
 from ..params import bake_grid, live as grid_live, setup
+from .operators import ObjectOperator
 
 
 def _value_changed(self, context):
@@ -74,25 +75,7 @@ def parse_keys(text):
     return out
 
 
-class _GridOperator:
-    bl_options = {'REGISTER', 'UNDO'}
-
-    @classmethod
-    def poll(cls, context):
-        return context.object is not None and context.object.type == 'MESH'
-
-    def execute(self, context):
-        try:
-            message = self.run(context, context.object)
-        except (ValueError, RuntimeError) as exc:  # BakeError, core ValueError, SolverError
-            self.report({'ERROR'}, str(exc))
-            return {'CANCELLED'}
-        if message:
-            self.report({'INFO'}, message)
-        return {'FINISHED'}
-
-
-class BDINTERP_OT_pose_grid_add(_GridOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_grid_add(ObjectOperator, bpy.types.Operator):
     """Set up a pose grid: parameters whose values name shape keys at the grid's nodes (the
     selected meshes follow the active one's parameters)"""
     bl_idname = "bdinterp.pose_grid_add"
@@ -117,7 +100,7 @@ class BDINTERP_OT_pose_grid_add(_GridOperator, bpy.types.Operator):
         return "Pose grid %r: %s%s" % (self.name, ", ".join(paths), "; made " + made if made else "")
 
 
-class BDINTERP_OT_pose_grid_remove(_GridOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_grid_remove(ObjectOperator, bpy.types.Operator):
     """Remove the pose grid (the keys stay)"""
     bl_idname = "bdinterp.pose_grid_remove"
     bl_label = "Remove Pose Grid"
@@ -128,7 +111,7 @@ class BDINTERP_OT_pose_grid_remove(_GridOperator, bpy.types.Operator):
         setup.remove_pose_grid(obj, self.name)
 
 
-class BDINTERP_OT_pose_grid_bone(_GridOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_grid_bone(ObjectOperator, bpy.types.Operator):
     """Drive the parameter by a bone's rotation: two angles map to its first and last values"""
     bl_idname = "bdinterp.pose_grid_bone"
     bl_label = "Drive by Bone"
@@ -159,7 +142,7 @@ class BDINTERP_OT_pose_grid_bone(_GridOperator, bpy.types.Operator):
         return "%s driven by %s" % (self.param, self.bone)
 
 
-class BDINTERP_OT_pose_grid_bake(_GridOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_grid_bake(ObjectOperator, bpy.types.Operator):
     """Bake the grid's in-betweens on a finer grid as keys that drivers blend linearly (plays and
     exports without the add-on)"""
     bl_idname = "bdinterp.pose_grid_bake"
