@@ -14,7 +14,6 @@ import sys
 
 import numpy as np
 
-import bdinterp
 from bdinterp import figures
 from bdinterp.pose_grid import Parameter, PoseBlender, PoseGrid
 

@@ -253,3 +253,21 @@ def test_face_example_combines_its_groups(addon, bd):
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     assert np.abs(evaluated_co(obj) - want).max() <= 1e-6 * size
     assert not obj.bdi_grid_error
+
+
+def test_panel_operator_sets_up_and_refuses(addon):
+    obj, keys = strip()
+    spec = "; ".join("%d, %d: %s" % (b, t, name) for (b, t), name in keys.items())
+    bpy.ops.ed.undo_push(message="before")
+    assert bpy.ops.bdinterp.pose_grid_add(name="head", params="bend = -60, 0, 60; thick = -1, 0, 1",
+                                          keys=spec) == {'FINISHED'}
+    assert [p.name for p in obj.bdi_grids["head"].params] == ["bend", "thick"]
+    before = key_names(obj)
+    spec_missing = spec.replace("60, 1: B60_T1", "60, 1: Nope")
+    with pytest.raises(RuntimeError, match="names the shape key 'Nope'"):  # reported as an error
+        bpy.ops.bdinterp.pose_grid_add(name="other", params="bend = -60, 0, 60; thick = -1, 0, 1",
+                                       keys=spec_missing)
+    assert key_names(obj) == before and len(obj.bdi_grids) == 1
+    assert bpy.ops.bdinterp.pose_grid_add(name="turn", params="turn = 0, 180 wrap",
+                                          keys="0: Basis; 180: B60_T0") == {'FINISHED'}
+    assert obj.bdi_grids["turn"].params["turn"].wrap

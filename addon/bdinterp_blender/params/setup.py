@@ -3,8 +3,6 @@
 
 import math
 
-import bpy
-
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..names import POSE_KEY

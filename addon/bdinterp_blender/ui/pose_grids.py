@@ -42,6 +42,7 @@ class BDI_PoseGrid(bpy.types.PropertyGroup):
                                 description="The other objects that follow these parameters")
     made: StringProperty(name="Made Nodes", description="Nodes made by fill, and their keys")
 
+
 def parse_params(text):
     """"angle_x = -30, 0, 30; turn = 0, 90, 180, 270 wrap" -> pose_grid's params."""
     out = {}
@@ -189,8 +190,9 @@ class BDINTERP_PT_pose_grids(bpy.types.Panel):
             layout.label(text=obj.bdi_grid_error, icon='ERROR')
 
 
-CLASSES = (BDI_GridParam, BDI_GridNode, BDI_GridMember, BDI_PoseGrid, BDINTERP_OT_pose_grid_add, BDINTERP_OT_pose_grid_remove, BDINTERP_OT_pose_grid_bone,
-           BDINTERP_OT_pose_grid_bake, BDINTERP_PT_pose_grids)
+CLASSES = (BDI_GridParam, BDI_GridNode, BDI_GridMember, BDI_PoseGrid, BDINTERP_OT_pose_grid_add,
+           BDINTERP_OT_pose_grid_remove, BDINTERP_OT_pose_grid_bone, BDINTERP_OT_pose_grid_bake,
+           BDINTERP_PT_pose_grids)
 
 
 def register():
