@@ -213,3 +213,14 @@ def test_bake_grid_error_shrinks_with_n(head):
         errors.append(bake.error(samples=2)[0])
     # the linear blend of turned poses cuts corners: the error falls about 4x per halving
     assert errors[0] > 1e-3 and errors[1] < 0.4 * errors[0] and errors[2] < 0.4 * errors[1], errors
+
+
+def test_three_parameters_are_trilinear():
+    values = {"x": [0, 1], "y": [0, 2], "z": [0, 4]}
+    grid = PoseGrid(values, {n: "%d%d%d" % n for n in itertools.product([0, 1], [0, 2], [0, 4])})
+    w = grid.weights((0.25, 1.0, 3.0))
+    want = {"%d%d%d" % (x, y, z): (0.25 if x else 0.75) * 0.5 * (0.75 if z else 0.25)
+            for x, y, z in itertools.product([0, 1], [0, 2], [0, 4])}
+    assert w == pytest.approx(want, abs=1e-15)
+    with pytest.raises(ValueError, match="1 to 3 parameters"):
+        PoseGrid({"a": [0, 1], "b": [0, 1], "c": [0, 1], "d": [0, 1]}, {})
