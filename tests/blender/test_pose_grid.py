@@ -9,7 +9,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import add_key, evaluated_co, grid, key_names, mesh_object, read_key, triangles
+from conftest import add_key, evaluated_co, fcurve, grid, key_names, mesh_object, read_key, triangles
 
 BENDS, THICKS = (-60, 0, 60), (-1, 0, 1)
 
@@ -81,7 +81,7 @@ def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
         obj.keyframe_insert(paths["bend"], frame=frame)
     arm = armature()
     addon.drive_by_bone(obj, "head", "thick", arm, "Neck", axis="Z", angles=(-45, 45))
-    curve = obj.animation_data.action.fcurves.find(paths["bend"])
+    curve = fcurve(obj.animation_data, paths["bend"])
     for frame, degrees in ((1, 0.0), (4, 20.0), (8, -70.0), (11, 30.0)):
         arm.pose.bones["Neck"].rotation_euler.z = math.radians(degrees)
         bpy.context.scene.frame_set(frame)
