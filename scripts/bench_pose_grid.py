@@ -83,12 +83,12 @@ def main():
         addon.pose_grid(obj, {"bend": [-90, 0, 90], "thick": [-1, 0, 1]}, keys, name="g")
         item = obj.bdi_grids["g"].params["bend"]
         values = np.linspace(-80, 80, updates) + 0.37  # new values, none at a node
-        item.value = values[0] - 1  # the first solve's warm-up is not timed
+        item.amount = values[0] - 1  # the first solve's warm-up is not timed
         bpy.context.view_layer.update()
         spent[0] = 0.0
         t0 = time.perf_counter()
         for v in values:
-            item.value = float(v)
+            item.amount = float(v)
             bpy.context.view_layer.update()
         total = (time.perf_counter() - t0) / updates
         core = spent[0] / updates

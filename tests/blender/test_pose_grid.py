@@ -73,11 +73,11 @@ def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
     obj, keys = strip()
     paths = addon.pose_grid(obj, params={"bend": list(BENDS), "thick": list(THICKS)}, keys=keys,
                             name="head")
-    assert paths == {"bend": 'bdi_grids["head"].params["bend"].value',
-                     "thick": 'bdi_grids["head"].params["thick"].value'}
+    assert paths == {"bend": 'bdi_grids["head"].params["bend"].amount',
+                     "thick": 'bdi_grids["head"].params["thick"].amount'}
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     for frame, value in ((1, -60.0), (11, 50.0)):
-        obj.path_resolve(paths["bend"].rsplit(".", 1)[0]).value = value
+        obj.path_resolve(paths["bend"].rsplit(".", 1)[0]).amount = value
         obj.keyframe_insert(paths["bend"], frame=frame)
     arm = armature()
     addon.drive_by_bone(obj, "head", "thick", arm, "Neck", axis="Z", angles=(-45, 45))
@@ -95,16 +95,16 @@ def test_script_sets_a_parameter_by_its_path(addon, bd):
     obj, keys = strip()
     paths = addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
     # a new grid starts at its rest node (the reference key's), showing the rest pose
-    assert [p.value for p in obj.bdi_grids["head"].params] == [0.0, 0.0]
+    assert [p.amount for p in obj.bdi_grids["head"].params] == [0.0, 0.0]
     assert np.abs(evaluated_co(obj) - read_key(obj, "Basis")).max() <= 1e-6
     item = obj.path_resolve(paths["thick"].rsplit(".", 1)[0])
-    item.value = 0.5
-    obj.bdi_grids["head"].params["bend"].value = -25.0
+    item.amount = 0.5
+    obj.bdi_grids["head"].params["bend"].amount = -25.0
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, -25, 0.5)).max() <= 1e-6 * size
     # clamped outside the grid: the corner pose itself
-    item.value = 7.0
-    obj.bdi_grids["head"].params["bend"].value = 99.0
+    item.amount = 7.0
+    obj.bdi_grids["head"].params["bend"].amount = 99.0
     assert np.abs(evaluated_co(obj) - read_key(obj, "B60_T1")).max() <= 1e-6 * size
 
 
@@ -154,8 +154,8 @@ def test_two_groups_and_a_wrap_on_two_objects(addon, bd):
     addon.pose_grid([obj, other], {"open": [0, 1]}, {0: "Basis", 1: "Wide"}, name="mouth")
     addon.pose_grid(obj, {"turn": {"values": [0, 90, 180, 270], "wrap": True}},
                     {0: "Basis", 90: "Turn90", 180: "Turn180", 270: "Turn270"}, name="body")
-    obj.bdi_grids["mouth"].params["open"].value = 0.5
-    obj.bdi_grids["body"].params["turn"].value = 315.0  # half way from 270 back to 0 (360)
+    obj.bdi_grids["mouth"].params["open"].amount = 0.5
+    obj.bdi_grids["body"].params["turn"].amount = 315.0  # half way from 270 back to 0 (360)
     names = ["Basis", "Wide", "Turn270"]
     # each group's difference from the rest added: Basis -1 + (0.5 + 0.5), Wide 0.5, Turn270 0.5
     want = bd.blend([read_key(obj, n) for n in names], triangles(obj), [0.0, 0.5, 0.5])
@@ -175,7 +175,7 @@ def test_bake_grid_plays_linearly_within_its_error(addon, bd):
     assert len(drivers) == 25 and all(fc.driver.is_simple_expression for fc in drivers)
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     params = obj.bdi_grids["head"].params
-    params["bend"].value, params["thick"].value = -45.0, 0.5  # mid-way between fine nodes 0 and 1
+    params["bend"].amount, params["thick"].amount = -45.0, 0.5  # mid-way between fine nodes 0 and 1
     got = evaluated_co(obj)
     # the keys' linear blend, by hand: bend -45 lies half way from fine node 0 (-60) to 1 (-30),
     # thick 0.5 is fine node 3
@@ -199,7 +199,7 @@ def test_grid_renders_with_blender_b_a(addon, bd, tmp_path):
     paths = addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
     bends = {1: -50.0, 2: -5.0, 3: 40.0}
     for frame in (1, 3):
-        obj.bdi_grids["head"].params["bend"].value = bends[frame]
+        obj.bdi_grids["head"].params["bend"].amount = bends[frame]
         obj.keyframe_insert(paths["bend"], frame=frame)
     for fc in fcurves(obj.animation_data):
         for kp in fc.keyframe_points:
@@ -217,7 +217,7 @@ def test_follows_an_edited_input_key(addon, bd):
     obj, keys = strip()
     addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
     params = obj.bdi_grids["head"].params
-    params["bend"].value, params["thick"].value = 30.0, 0.0
+    params["bend"].amount, params["thick"].amount = 30.0, 0.0
     evaluated_co(obj)
     kb = obj.data.shape_keys.key_blocks["B60_T0"]
     kb.data.foreach_set("co", (read_key(obj, "B60_T0") * [1.0, 1.2, 1.0]).astype(np.float32).ravel())
@@ -235,11 +235,11 @@ def test_face_example_combines_its_groups(addon, bd):
     import face_blender
     import face_rig
     obj, paths = face_blender.build()
-    assert paths["body"] == {"turn": 'bdi_grids["body"].params["turn"].value'}
+    assert paths["body"] == {"turn": 'bdi_grids["body"].params["turn"].amount'}
     grids = obj.bdi_grids
-    grids["head"].params["angle_x"].value = 20.0
-    grids["mouth"].params["open"].value = 1.0
-    grids["body"].params["turn"].value = -45.0  # = 315: half way from 270 back to 0
+    grids["head"].params["angle_x"].amount = 20.0
+    grids["mouth"].params["open"].amount = 1.0
+    grids["body"].params["turn"].amount = -45.0  # = 315: half way from 270 back to 0
     bpy.data.objects["Rig"].pose.bones["Neck"].rotation_euler.z = math.radians(-15)  # angle_y 15
     bpy.context.scene.frame_set(1)
     # by hand: head (20, 15): 2/3 x 1/2 of each corner of the cell (0..30) x (0..30); then each

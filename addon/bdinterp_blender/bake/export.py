@@ -3,12 +3,14 @@
 Blender's glTF, FBX and Alembic exporters carry shape-key values that F-curves animate, not ones
 that drivers compute. So the value every driven key has at each frame of a range is sampled and
 keyframed (one key a frame, linear between), and the drivers are muted while those F-curves exist
-so that Blender shows exactly what is exported. The object's custom property EXPORT_PROP records
+so that Blender shows exactly what is exported; the object's other shown keys are keyed at their
+values too (glTF animates a mesh's morph weights all at once). The custom property EXPORT_PROP records
 what was written, so that remove() takes exactly that away and unmutes the drivers.
 """
 
 from .. import actions
 from . import playback
+from ..names import GRID_BAKE_SEP
 from ..shapes.mesh_io import BakeError
 
 EXPORT_PROP = "bdi_export"
@@ -34,13 +36,20 @@ def _animated(owner, prop):
             or (anim is not None and anim.drivers.find(path) is not None))
 
 
+def _grid_keys(obj):
+    """[(key block, its driver F-curve)] of the keys of a baked pose grid (Bake Grid) on obj."""
+    out = [(kb, playback.driver_of(kb)) for kb in obj.data.shape_keys.key_blocks
+           if GRID_BAKE_SEP in kb.name]
+    return [(kb, fc) for kb, fc in out if fc is not None]
+
+
 def driven_keys(obj):
-    """[(key block, its driver F-curve)] of every bake on obj; BakeError where there is no bake,
-    a key is missing or undriven, or a slider is not animated."""
-    recs = playback.records(obj)
-    if not recs:
-        raise BakeError("%r has no baked in-betweens: bake them first" % obj.name)
-    key, out = obj.data.shape_keys, []
+    """[(key block, its driver F-curve)] of every bake on obj (in-betweens and baked pose grids);
+    BakeError where there is none, a key is missing or undriven, or a slider is not animated."""
+    recs, grid = playback.records(obj), _grid_keys(obj)
+    if not recs and not grid:
+        raise BakeError("%r has no baked in-betweens or baked pose grid: bake them first" % obj.name)
+    key, out = obj.data.shape_keys, grid
     for slider, rec in recs.items():
         owner = playback.recorded_owner(obj, rec)
         if not _animated(owner, slider):
@@ -54,6 +63,19 @@ def driven_keys(obj):
                                 "bake again" % (name, obj.name, slider))
             out.append((kb, driver))
     return out
+
+
+def static_keys(obj, driven):
+    """[(key block, None)] of obj's other shown keys: not the reference, not muted, neither driven
+    nor animated. glTF animates a mesh's morph weights all in one, so they are keyed too (at their
+    constant values)."""
+    key = obj.data.shape_keys
+    curves = actions.action_fcurves(key.animation_data)
+    skip = {kb.name for kb, _ in driven}
+    return [(kb, None) for kb in key.key_blocks
+            if kb != key.reference_key and not kb.mute and kb.name not in skip
+            and playback.driver_of(kb) is None
+            and (curves is None or curves.find(kb.path_from_id("value")) is None)]
 
 
 def _frame_range(scene, frame_start, frame_end):
@@ -95,7 +117,8 @@ def _write(obj, keys, frames, values):
         points.foreach_set("co", co)
         points.foreach_set("interpolation", [LINEAR] * len(frames))
         fc.update()
-        driver.mute = True
+        if driver is not None:
+            driver.mute = True
         written.append(kb.name)
     obj[EXPORT_PROP] = {"keys": written, "action": anim.action.name if created else "",
                         "frames": [frames[0], frames[-1]]}
@@ -114,6 +137,7 @@ def bake(objs, frame_start=None, frame_end=None):
     plans = [(obj, driven_keys(obj)) for obj in objs]
     for obj, _ in plans:  # sample what the slider shows, not an earlier export bake
         remove(obj)
+    plans = [(obj, keys + static_keys(obj, keys)) for obj, keys in plans]
     frames = list(range(a, b + 1))
     values = _sample(scene, plans, frames)
     count = sum(_write(obj, keys, frames, values) for obj, keys in plans)

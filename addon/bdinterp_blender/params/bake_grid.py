@@ -4,12 +4,12 @@ glTF player's morph targets) shows bdinterp's blend within the error reported.
 
 Each fine node's key '<grid>.bake.<i>_<j>' (relative to the reference key) holds bdinterp's blend
 at that node; its value is the product of one hat function per parameter (simple driver
-expressions: no Python needed to play them). The live key 'bdi.pose' is muted so the baked keys
-are what shows."""
+expressions: no Python needed to play them). The live key 'bdi.pose' is muted and set to 0 so the
+baked keys are what shows; live updates stop until it is unmuted."""
 
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
-from ..names import POSE_KEY
+from ..names import GRID_BAKE_SEP, POSE_KEY
 from . import live
 
 
@@ -56,7 +56,7 @@ def _drive(obj, kb, bake, index, paths):
 def clear_bake(obj, name):
     """Remove the baked keys of grid `name` and their drivers; returns their names."""
     key = obj.data.shape_keys
-    gone = [kb for kb in key.key_blocks if kb.name.startswith(name + ".bake.")]
+    gone = [kb for kb in key.key_blocks if kb.name.startswith(name + GRID_BAKE_SEP)]
     names = [kb.name for kb in gone]
     for kb in gone:
         kb.driver_remove("value")
@@ -83,17 +83,17 @@ def bake_grid(obj, name, n=2, samples=2):
     clear_bake(obj, name)
     key = obj.data.shape_keys
     rest = bake.blender.keys[0]
-    paths = ['bdi_grids["%s"].params["%s"].value' % (name, p.name) for p in group.params]
+    paths = ['bdi_grids["%s"].params["%s"].amount' % (name, p.name) for p in group.params]
     written = []
     for index in sorted(bake.grid.nodes):
-        kb_name = "%s.bake.%s" % (name, "_".join(str(i) for i in index))
+        kb_name = name + GRID_BAKE_SEP + "_".join(str(i) for i in index)
         kb = obj.shape_key_add(name=kb_name, from_mix=False)
         kb.relative_key = key.key_blocks[rest]
         mesh_io.write_co(kb, bake.shapes[index])
         _drive(obj, kb, bake, index, paths)
         written.append(kb_name)
     pose = key.key_blocks.get(POSE_KEY)
-    if pose is not None:
-        pose.mute = True
+    if pose is not None:  # shown by no exporter either (FBX exports a muted key's value)
+        pose.mute, pose.value = True, 0.0
     key.update_tag()
     return written, error

@@ -109,7 +109,7 @@ def state_of(obj):
 
 def points(obj):
     """{group name: (value per parameter)} of obj (pass the evaluated object for animated values)."""
-    return {g.name: tuple(p.value for p in g.params) for g in obj.bdi_grids}
+    return {g.name: tuple(p.amount for p in g.params) for g in obj.bdi_grids}
 
 
 def compute(state, values):
@@ -130,9 +130,11 @@ def update(obj, depsgraph=None, force=False, reported=True):
     state = state_of(obj)
     if not state.error:
         values = points(obj.evaluated_get(depsgraph) if depsgraph is not None else obj)
-        present = all(o.data.shape_keys.key_blocks.get(POSE_KEY) is not None
-                      for o in (bpy.data.objects.get(m.name) for m in state.members))
-        if values == state.values and present and not force:
+        keys = [o.data.shape_keys.key_blocks.get(POSE_KEY)
+                for o in (bpy.data.objects.get(m.name) for m in state.members)]
+        if keys[0] is not None and keys[0].mute:
+            return False  # Bake Grid muted it: the baked keys show the grid (unmute to go live)
+        if values == state.values and None not in keys and not force:
             return False
         try:
             for (name, blend), m in zip(compute(state, values), state.members):

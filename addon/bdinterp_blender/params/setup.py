@@ -77,7 +77,7 @@ def _write_group(obj, grid, made, others):
     for p, home in zip(grid.params, grid.rest_values()):
         item = group.params.add()
         item.name, item.values, item.wrap = p.name, ",".join(repr(float(x)) for x in p.values), p.wrap
-        item.period, item.value = (p.period if p.wrap else 360.0), home
+        item.period, item.amount = (p.period if p.wrap else 360.0), home
     nodes = dict(grid.nodes)
     nodes.update({i: name for i, (name, _) in made.items()})
     for index, key in sorted(nodes.items()):
@@ -139,7 +139,7 @@ def _commit(objs, grid, made):
             obj.shape_key_remove(obj.data.shape_keys.key_blocks[name])
         raise BakeError(state.error)
     live.update(owner, force=True)
-    return {p.name: 'bdi_grids["%s"].params["%s"].value' % (grid.name, p.name) for p in grid.params}
+    return {p.name: 'bdi_grids["%s"].params["%s"].amount' % (grid.name, p.name) for p in grid.params}
 
 
 def remove_pose_grid(obj, name):
@@ -176,7 +176,7 @@ def drive_by_bone(obj, grid, param, armature, bone, axis="Z", angles=(-45.0, 45.
     values = [float(x) for x in item.values.split(",")]
     lo, hi = values[0], values[-1] if not item.wrap else values[0] + item.period
     a0, a1 = (math.radians(a) for a in angles)
-    fcurve = item.driver_add("value")
+    fcurve = item.driver_add("amount")
     drv = fcurve.driver
     drv.type = 'SCRIPTED'
     var = drv.variables.new()

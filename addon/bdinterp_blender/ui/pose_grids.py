@@ -17,8 +17,10 @@ def _value_changed(self, context):
 
 class BDI_GridParam(bpy.types.PropertyGroup):
     # name (inherited): the parameter's name, the key of its data path
-    value: FloatProperty(name="Value", default=0.0, update=_value_changed,
-                         description="The parameter's value: keyframe it, drive it or set it")
+    # "amount", not "value": Blender 3.4's glTF exporter takes any F-curve path ending in "value"
+    # for a shape key's weight
+    amount: FloatProperty(name="Value", default=0.0, update=_value_changed,
+                          description="The parameter's value: keyframe it, drive it or set it")
     values: StringProperty(name="Values", description="The node values, comma-separated")
     wrap: BoolProperty(name="Wrap", default=False,
                        description="An angle on a circle: the last value's cell reaches the first")
@@ -181,7 +183,7 @@ class BDINTERP_PT_pose_grids(bpy.types.Panel):
             row.operator("bdinterp.pose_grid_remove", text="", icon='X').name = group.name
             for item in group.params:
                 row = box.row(align=True)
-                row.prop(item, "value", text=item.name)  # keyframable, drivable
+                row.prop(item, "amount", text=item.name)  # keyframable, drivable
                 op = row.operator("bdinterp.pose_grid_bone", text="", icon='BONE_DATA')
                 op.grid, op.param = group.name, item.name
             if group.made:
