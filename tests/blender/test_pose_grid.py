@@ -81,7 +81,10 @@ def test_grid_keyframed_and_driven_by_a_bone(addon, bd):
         obj.keyframe_insert(paths["bend"], frame=frame)
     arm = armature()
     addon.drive_by_bone(obj, "head", "thick", arm, "Neck", axis="Z", angles=(-45, 45))
-    curve = fcurve(obj.animation_data, paths["bend"])
+    # the F-curve has the path as given (Blender 3.4) or by index (4.3+: bdi_grids[0].params[0])
+    item = obj.bdi_grids["head"].params["bend"]
+    curve = fcurve(obj.animation_data, paths["bend"]) or \
+        fcurve(obj.animation_data, item.path_from_id("amount"))
     for frame, degrees in ((1, 0.0), (4, 20.0), (8, -70.0), (11, 30.0)):
         arm.pose.bones["Neck"].rotation_euler.z = math.radians(degrees)
         bpy.context.scene.frame_set(frame)
