@@ -122,6 +122,15 @@ def test_missing_node_refused_with_nothing_changed(addon):
     assert key_names(obj) == before and len(obj.bdi_grids) == 0
 
 
+def test_an_object_in_live_mode_is_refused(addon):
+    obj, keys = strip()
+    addon.set_live(obj, target="B60_T0", factor=0.5)
+    before = key_names(obj)
+    with pytest.raises(addon.BakeError, match="Strip is in live mode: switch that off first"):
+        addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    assert key_names(obj) == before and len(obj.bdi_grids) == 0
+
+
 def test_fill_makes_the_missing_node_and_reports_it(addon, bd):
     obj, keys = strip(skip={(60, 0)})
     addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head", fill=True)

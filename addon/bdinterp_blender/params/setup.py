@@ -18,6 +18,8 @@ def _objects(objs):
         mesh_io.key_of(obj)
         if not hasattr(obj, "bdi_grids"):
             raise BakeError("pose grids need the bdinterp add-on enabled (Preferences > Add-ons)")
+        if obj.bdi.live:  # its live key and the pose key would both add their offsets
+            raise BakeError("%s is in live mode: switch that off first" % obj.name)
     return objs
 
 
