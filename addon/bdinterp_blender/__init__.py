@@ -53,13 +53,13 @@ from .files.sprite_mesh import mesh_from_image  # noqa: E402
 from .files.layered_import import import_layered  # noqa: E402
 from .view.motion_trails import trails  # noqa: E402
 from .view.drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
-from .params.setup import drive_by_bone, pose_grid, remove_pose_grid  # noqa: E402
+from .params.setup import drive_by_bone, pose_grid, pose_grid_report, remove_pose_grid  # noqa: E402
 from .params.bake_grid import bake_grid  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing", "pose_grid", "drive_by_bone", "remove_pose_grid", "bake_grid"]
+           "bind_drawing", "unbind_drawing", "pose_grid", "drive_by_bone", "remove_pose_grid", "bake_grid", "pose_grid_report"]
 
 _modules = []
 

@@ -173,6 +173,16 @@ def test_two_groups_and_a_wrap_on_two_objects(addon, bd):
     want = bd.blend([read_key(obj, n) for n in names], triangles(obj), [0.0, 0.5, 0.5])
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     assert np.abs(evaluated_co(obj) - want).max() <= 1e-6 * size
+    assert addon.pose_grid_report(obj)[obj.name].startswith("convex blend: K <= ")  # Basis 0
+    obj.bdi_grids["mouth"].params["open"].amount = 1.0  # Basis -1 + (0 + 0.5): an extrapolation
+    want = bd.blend([read_key(obj, n) for n in names], triangles(obj), [-0.5, 1.0, 0.5])
+    assert np.abs(evaluated_co(obj) - want).max() <= 1e-6 * size
+    report = addon.pose_grid_report(obj)
+    assert report[obj.name].startswith("extrapolated blend: worst K") and "0 flipped" in report[obj.name]
+    assert report[other.name].startswith("convex blend: K <= ")  # the mouth alone
+    obj.bdi_grids["mouth"].params["open"].amount = 0.5
+    with pytest.raises(addon.BakeError, match="Strip has pose grids: remove them first"):
+        addon.set_live(obj, target="Wide", factor=0.5)
     # the other object follows the first one's mouth only
     want = bd.blend([read_key(other, n) for n in names[:2]], triangles(other), [0.5, 0.5])
     assert np.abs(evaluated_co(other) - want).max() <= 1e-6 * size

@@ -57,6 +57,9 @@ def prepare(obj, settings, objs=None):
     """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing.
     objs: the objects of obj's character (default: those it holds, see character_objects)."""
     objs = character_objects(obj, settings.bake.target) if objs is None else objs
+    for o in objs or [obj]:  # the pose grids' key and the live key would both add their offsets
+        if len(getattr(o, "bdi_grids", ())):
+            raise BakeError("%s has pose grids: remove them first to use live mode" % o.name)
     if len(objs) > 1 and settings.mode != 'BLEND':
         return prepare_character(objs, settings)
     owner = next((o for o in bpy.data.objects if o != obj and getattr(o, "bdi", None) is not None

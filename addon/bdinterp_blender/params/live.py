@@ -153,6 +153,17 @@ def update(obj, depsgraph=None, force=False, reported=True):
     return not state.error
 
 
+def reports(obj):
+    """{object name: how its last blend relates to the guarantee (Blend.report(), worst K of an
+    extrapolated combination)} of obj's grids, or {owner: its error}."""
+    state = _states.get(obj.name)
+    if state is None:
+        return {}
+    if state.error:
+        return {obj.name: state.error}
+    return {m.name: m.report for m in state.members}
+
+
 def remove(obj):
     """Forget obj's cached State (its grids were removed)."""
     _states.pop(obj.name, None)

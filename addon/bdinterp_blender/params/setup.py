@@ -162,6 +162,15 @@ def remove_pose_grid(obj, name):
         live.update(obj, force=True)
 
 
+def pose_grid_report(obj):
+    """{object name: how the shown blend relates to the guarantee}: "convex blend: K <= ..." or
+    "extrapolated blend: worst K ..., n flipped faces" (groups combined), or the grid's error."""
+    if not len(getattr(obj, "bdi_grids", ())):
+        raise BakeError("%s has no pose grid" % getattr(obj, "name", obj))
+    live.update(obj)
+    return live.reports(obj)
+
+
 def drive_by_bone(obj, grid, param, armature, bone, axis="Z", angles=(-45.0, 45.0)):
     """Drive a parameter by a bone's local rotation about `axis`: angles (degrees) (a0, a1) map
     linearly to the parameter's first and last values (beyond them the grid clamps, or wraps).

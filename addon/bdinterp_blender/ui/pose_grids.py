@@ -190,6 +190,9 @@ class BDINTERP_PT_pose_grids(bpy.types.Panel):
                 box.label(text="Made: " + group.made, icon='INFO')
         if obj.bdi_grid_error:
             layout.label(text=obj.bdi_grid_error, icon='ERROR')
+        elif len(obj.bdi_grids):
+            for name, text in grid_live.reports(obj).items():
+                layout.label(text="%s: %s" % (name, text), icon='INFO')
 
 
 CLASSES = (BDI_GridParam, BDI_GridNode, BDI_GridMember, BDI_PoseGrid, BDINTERP_OT_pose_grid_add,
