@@ -293,3 +293,20 @@ def test_panel_operator_sets_up_and_refuses(addon):
     assert bpy.ops.bdinterp.pose_grid_add(name="turn", params="turn = 0, 180 wrap",
                                           keys="0: Basis; 180: B60_T0") == {'FINISHED'}
     assert obj.bdi_grids["turn"].params["turn"].wrap
+
+
+def test_drive_by_bone_and_bake_grid_operators(addon):
+    obj, keys = strip()
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    arm = armature()
+    bpy.context.view_layer.objects.active = obj
+    assert bpy.ops.bdinterp.pose_grid_bone(grid="head", param="bend", armature=arm.name, bone="Neck",
+                                           axis='Z', angle0=-30.0, angle1=30.0) == {'FINISHED'}
+    arm.pose.bones["Neck"].rotation_euler.z = math.radians(15)  # 3/4 of the way: bend 30
+    bpy.context.scene.frame_set(1)
+    assert obj.evaluated_get(bpy.context.evaluated_depsgraph_get()) \
+        .bdi_grids["head"].params["bend"].amount == pytest.approx(30.0)
+    with pytest.raises(RuntimeError, match="no bone 'Nope'"):
+        bpy.ops.bdinterp.pose_grid_bone(grid="head", param="thick", armature=arm.name, bone="Nope")
+    assert bpy.ops.bdinterp.pose_grid_bake(name="head", n=1) == {'FINISHED'}
+    assert len([n for n in key_names(obj) if n.startswith("head.bake.")]) == 9
