@@ -3,8 +3,8 @@
 Three characters (examples/character as one object, examples/cutout as one object and as seven
 objects) are baked, their slider keyframed over 24 frames with Blender's default (eased) Bezier
 keys, and what Blender shows at each frame is recorded; so is examples/face's head grid after
-Bake Grid (n = 2), its angle_x keyframed and its angle_y driven by a keyframed bone. After Bake for Export Blender shows the
-same; FBX and Alembic exports re-imported show it too. The glTF files (before and after Bake for
+Bake Grid (n = 2), its angle_x keyframed and its angle_y driven by a keyframed bone. After Bake
+for Export Blender shows the same; FBX and Alembic exports re-imported show it too. The glTF files (before and after Bake for
 Export) and the recorded frames go to build/runtime/blender-X.Y, where tests/runtime plays them
 in three.js on the host (the chroots have no node).
 """

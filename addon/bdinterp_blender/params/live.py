@@ -74,6 +74,9 @@ class Member:
 
 
 class State:
+    """The cached blenders of an owner object's grids (members), the values last written, and
+    whether its keys may have been edited (dirty) or it failed (error)."""
+
     def __init__(self, obj):
         self.definition = definition(obj)
         self.error, self.values, self.dirty, self.members = "", None, False, []
