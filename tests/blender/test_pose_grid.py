@@ -310,3 +310,17 @@ def test_drive_by_bone_and_bake_grid_operators(addon):
         bpy.ops.bdinterp.pose_grid_bone(grid="head", param="thick", armature=arm.name, bone="Nope")
     assert bpy.ops.bdinterp.pose_grid_bake(name="head", n=1) == {'FINISHED'}
     assert len([n for n in key_names(obj) if n.startswith("head.bake.")]) == 9
+
+
+def test_undo_of_a_parameter_change_updates_the_mesh(addon, bd):
+    obj, keys = strip()
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    obj.bdi_grids["head"].params["bend"].amount = 30.0
+    bpy.ops.ed.undo_push(message="bend 30")
+    obj.bdi_grids["head"].params["bend"].amount = -50.0
+    bpy.ops.ed.undo_push(message="bend -50")
+    bpy.ops.ed.undo()
+    obj = bpy.data.objects["Strip"]
+    assert obj.bdi_grids["head"].params["bend"].amount == 30.0
+    size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
+    assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, 30.0, 0.0)).max() <= 1e-6 * size
