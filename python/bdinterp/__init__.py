@@ -8,7 +8,7 @@ Public API (numpy in, numpy out):
         .at(t), .blend(weights), .frames(ts), .stats (FrameStats)
     conformal_distortion(source, result, faces), area_ratio(source, result, faces),
     flipped_faces(source, result, faces)
-    mesh_from_image(image, *, threshold, spacing, detail, padding, min_angle, min_area) -> SpriteMesh
+    mesh_from_image(image, **options) -> SpriteMesh (options: SpriteMeshOptions' fields)
         (a triangle mesh of a sprite's alpha)
     pose_grid: Parameter, PoseGrid (poses on a grid of parameter values: multilinear weights,
         wrapping angles, clamping), PoseBlender (groups of them combined, blended by one Interpolator)
@@ -28,11 +28,12 @@ from . import pose_bake, pose_grid
 from .pose_grid import Parameter, PoseBlender, PoseGrid
 from .layers import Layers
 from .plane import Plane
-from .sprite import SpriteMesh, mesh_from_image
+from .sprite import SpriteMesh, SpriteMeshOptions, mesh_from_image
 
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
-           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh", "__version__",
-           "pose_grid", "pose_bake", "Parameter", "PoseGrid", "PoseBlender"]
+           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh",
+           "SpriteMeshOptions", "__version__", "pose_grid", "pose_bake", "Parameter", "PoseGrid",
+           "PoseBlender"]

@@ -293,11 +293,6 @@ class BDINTERP_PT_view(_Panel, bpy.types.Panel):
 PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP_PT_poses,
           BDINTERP_PT_live, BDINTERP_PT_distortion, BDINTERP_PT_view)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
-ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
-         'MOD_WARP', 'CHECKMARK', 'EXPORT', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER',
-         'GREASEPENCIL')  # every icon used above
-
-
 class degraded:
     """Registered instead of everything else when the core cannot load: explains why."""
     register, unregister = bpy.utils.register_classes_factory((BDINTERP_PT_main, BDINTERP_AP_preferences))
