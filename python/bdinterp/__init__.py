@@ -10,6 +10,7 @@ Public API (numpy in, numpy out):
     flipped_faces(source, result, faces)
     mesh_from_image(image, **options) -> SpriteMesh (options: SpriteMeshOptions' fields)
         (a triangle mesh of a sprite's alpha)
+    Stroke, StrokeInterpolator, interpolate_strokes (drawn strokes as thin bands, bdinterp.strokes)
     pose_grid: Parameter, PoseGrid (poses on a grid of parameter values: multilinear weights,
         wrapping angles, clamping), PoseBlender (groups of them combined, blended by one Interpolator)
     pose_bake: GridBake (a grid's in-betweens on a finer grid for linear runtimes, and their error)
@@ -29,11 +30,13 @@ from .pose_grid import Parameter, PoseBlender, PoseGrid
 from .layers import Layers
 from .plane import Plane
 from .sprite import SpriteMesh, SpriteMeshOptions, mesh_from_image
+from . import strokes
+from .strokes import Stroke, StrokeInterpolator, interpolate_strokes
 
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
            "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh",
-           "SpriteMeshOptions", "__version__", "pose_grid", "pose_bake", "Parameter", "PoseGrid",
-           "PoseBlender"]
+           "SpriteMeshOptions", "strokes", "Stroke", "StrokeInterpolator", "interpolate_strokes", "__version__",
+           "pose_grid", "pose_bake", "Parameter", "PoseGrid", "PoseBlender"]

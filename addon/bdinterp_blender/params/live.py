@@ -11,7 +11,7 @@ Object.bdi_grid_error and printed; the grid then waits for its definition or its
 import bpy
 from bpy.app.handlers import persistent
 
-from ..bake import live as live_mode
+from ..keys import live as live_mode
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..names import POSE_KEY

@@ -10,7 +10,7 @@ import bpy
 from bpy.props import EnumProperty, IntProperty
 
 from .. import api
-from ..bake.character import selected_meshes
+from ..keys.character import selected_meshes
 from ..shapes.settings import CURVE_NODE, from_props
 
 
@@ -87,8 +87,7 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
         job = api.job_of(objs, settings_for(obj.bdi, objs))
         wm.progress_begin(0, job.total)
         try:
-            while not job.finished:
-                wm.progress_update(job.step())
+            api.run(job, lambda done, total: wm.progress_update(done))
             return job.finish().message
         finally:
             wm.progress_end()
