@@ -14,6 +14,7 @@ rest=(
   libgtest-dev libbenchmark-dev                           # C++ tests and benchmarks
   python3-pip python3-setuptools python3-pybind11
   python3-scipy python3-matplotlib python3-pytest python3-pil
+  python3-hypothesis                                      # the property-based fuzzer of the painting readers
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
   xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
   clang libclang-rt-14-dev                                # fuzz targets (libFuzzer) and the ASan/UBSan test build

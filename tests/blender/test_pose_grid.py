@@ -324,3 +324,22 @@ def test_undo_of_a_parameter_change_updates_the_mesh(addon, bd):
     assert obj.bdi_grids["head"].params["bend"].amount == 30.0
     size = np.linalg.norm(np.ptp(read_key(obj, "Basis"), axis=0))
     assert np.abs(evaluated_co(obj) - expected(bd, obj, keys, 30.0, 0.0)).max() <= 1e-6 * size
+
+
+def test_a_handler_error_is_said_once_and_keeps_the_keys(addon, monkeypatch, capsys):
+    import importlib
+    grid_live = importlib.import_module(addon.__name__ + ".params.live")
+    obj, keys = strip()
+    addon.pose_grid(obj, {"bend": list(BENDS), "thick": list(THICKS)}, keys, name="head")
+    obj.bdi_grids["head"].params["bend"].amount = 20.0
+    before = read_key(obj, "bdi.pose")
+    capsys.readouterr()
+
+    def failing(*_args):
+        raise TypeError("injected")
+    monkeypatch.setattr(grid_live, "compute", failing)
+    obj.bdi_grids["head"].params["bend"].amount = 40.0  # the property's update fails: said once
+    for frame in (2, 3, 4):
+        bpy.context.scene.frame_set(frame)
+    assert capsys.readouterr().out.count("pose grid of Strip stopped: TypeError: injected") == 1
+    assert np.array_equal(read_key(obj, "bdi.pose"), before)

@@ -90,6 +90,7 @@ class State:
 
 
 _states = {}  # owner object name -> State
+_failed = set()  # owners whose update raised unexpectedly: the handlers leave them alone
 _suspended = []  # non-empty while a grid is being written: no update per property
 
 
@@ -150,9 +151,12 @@ def update(obj, depsgraph=None, force=False, reported=True):
         except (BakeError, RuntimeError) as exc:
             state.error = str(exc)
     if obj.bdi_grid_error != state.error:
-        obj.bdi_grid_error = state.error
         if state.error:
             print("bdinterp: pose grid of %s: %s" % (obj.name, state.error))
+        try:
+            obj.bdi_grid_error = state.error
+        except (AttributeError, RuntimeError):  # a handler where Blender forbids writes
+            pass
     return not state.error
 
 
@@ -168,13 +172,26 @@ def reports(obj):
 
 
 def remove(obj):
-    """Forget obj's cached State (its grids were removed)."""
+    """Forget obj's cached State (its grids were removed or are set up anew)."""
     _states.pop(obj.name, None)
+    _failed.discard(obj.name)
+
+
+def _guarded(obj, depsgraph, reported=True):
+    """update() from a handler: an unexpected error is said once and the object left alone
+    (until its grids are set up again, or undo), never raised every frame."""
+    if obj.name in _failed:
+        return
+    try:
+        update(obj, depsgraph, reported=reported)
+    except Exception as exc:  # noqa: BLE001 -- a handler must not fail every frame
+        _failed.add(obj.name)
+        print("bdinterp: pose grid of %s stopped: %s: %s" % (obj.name, type(exc).__name__, exc))
 
 
 def on_value_change(obj):
     if obj.bdi_grids and not _suspended:
-        update(obj)
+        _guarded(obj, None)
 
 
 def _grid_objects(scene):
@@ -202,18 +219,19 @@ def on_frame_change(scene, depsgraph=None):
     if depsgraph is not None:
         _mark_edited(depsgraph)
     for obj in _grid_objects(scene):
-        update(obj, depsgraph, reported=False)  # writes in this handler are not reported
+        _guarded(obj, depsgraph, reported=False)  # writes in this handler are not reported
 
 
 @persistent
 def on_depsgraph_update(scene, depsgraph):
     _mark_edited(depsgraph)
     for obj in _grid_objects(scene):
-        update(obj, depsgraph)
+        _guarded(obj, depsgraph)
 
 
 @persistent
 def on_undo(*_args):
+    _failed.clear()
     for state in _states.values():
         state.dirty, state.values = True, None
 
@@ -221,6 +239,7 @@ def on_undo(*_args):
 @persistent
 def on_load(*_args):
     _states.clear()
+    _failed.clear()
 
 
 HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),

@@ -28,14 +28,16 @@ def settings_for(props, objs=None):
 class StepThread:
     """A job's steps (job.step()) on a thread of their own, one at a time, so that the window keeps
     drawing and Esc is answered while a step computes (the core releases the GIL). A cancelled
-    job's step in flight ends on its own; its frames are dropped."""
+    job's step in flight ends on its own; its frames are dropped. A step that fails, with an
+    exception of any type, ends the job: from then on poll() raises that exception and starts no
+    further step."""
 
     def __init__(self, job):
         self.job, self.thread, self.error = job, None, None
 
     def poll(self):
         """True once every step is done; else starts the next step when none runs. Raises the
-        error of a step that failed."""
+        error of a step that failed (every call after the failure)."""
         if self.thread is not None and self.thread.is_alive():
             return False
         if self.error is not None:
@@ -49,8 +51,16 @@ class StepThread:
     def _step(self):
         try:
             self.job.step()
-        except (ValueError, RuntimeError) as exc:  # reported by poll() on the main thread
+        except BaseException as exc:  # noqa: BLE001 -- any type: reported by poll() on the main thread
             self.error = exc
+
+
+def failure(exc):
+    """What an error says to the user: its message, with its type unless it is one of the
+    add-on's expected ones (BakeError, the core's ValueError and SolverError)."""
+    if isinstance(exc, (ValueError, RuntimeError)):
+        return str(exc)
+    return "%s: %s" % (type(exc).__name__, exc)
 
 
 class ObjectOperator:
@@ -127,9 +137,9 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
             if not done:
                 return {'RUNNING_MODAL'}
             message = self._job.finish().message
-        except (ValueError, RuntimeError) as exc:
+        except Exception as exc:  # noqa: BLE001 -- a step's error of any type ends the bake, said once
             self._stop(context)
-            self.report({'ERROR'}, str(exc))
+            self.report({'ERROR'}, failure(exc))
             return {'CANCELLED'}
         self._stop(context)
         self.report({'INFO'}, message)
