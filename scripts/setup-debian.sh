@@ -4,7 +4,7 @@
 #   scripts/setup-debian.sh demo   only what `make demo` needs: the host module and Blender 3.4
 set -euo pipefail
 demo=(
-  build-essential cmake
+  build-essential cmake ccache
   libsuitesparse-dev libeigen3-dev libopenblas0-pthread   # CHOLMOD (fast BLAS for its supernodal path), Eigen
   python3-dev pybind11-dev python3-numpy                  # the compiled module for /usr/bin/python3
   blender libegl1 libegl-mesa0                            # the add-on's host (Debian's 3.4.1, Python 3.11), headless rendering

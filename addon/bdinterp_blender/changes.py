@@ -1,10 +1,10 @@
-"""One pair of scene handlers for every part of the add-on that follows the scene (live mode, the
-drawings bound to meshes, the onion-skin overlay).
+"""One pair of scene handlers for every part of the add-on that follows the scene (live mode, pose
+grids, the drawings bound to meshes, the onion-skin overlay).
 
 Each depsgraph update and frame change is read once into a Changes record (did the frame move;
 which shape-key datablocks, object transforms and shapes the depsgraph reports updated) and
-passed to the subscribers in their order: live mode writes its keys first, then the drawings
-follow the meshes, then the overlay decides what to rebuild.  The add-on's own writes of a
+passed to the subscribers in their order: live mode and pose grids write their keys first, then
+the drawings follow the meshes, then the overlay decides what to rebuild.  The add-on's own writes of a
 shape key (live mode's key, reported by the depsgraph at the next update) are told apart, so
 that a subscriber need not read a key's data to find out that nobody else edited it.
 """

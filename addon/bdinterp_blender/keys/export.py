@@ -3,13 +3,15 @@
 Blender's glTF, FBX and Alembic exporters carry shape-key values that F-curves animate, not ones
 that drivers compute. So the value every driven key has at each frame of a range is sampled and
 keyframed (one key a frame, linear between), and the drivers are muted while those F-curves exist
-so that Blender shows exactly what is exported. The object's custom property EXPORT_PROP records
-what was written, so that remove() takes exactly that away and unmutes the drivers. Bake for
-Export never replaces F-curves it did not write (see bake()).
+so that Blender shows exactly what is exported; the object's other shown keys are keyed at their
+values too (glTF animates a mesh's morph weights all at once). The object's custom property
+EXPORT_PROP records what was written, so that remove() takes exactly that away and unmutes the
+drivers. Bake for Export never replaces F-curves it did not write (see bake()).
 """
 
 from .. import actions
 from . import playback
+from ..names import GRID_BAKE_SEP
 from ..shapes.mesh_io import BakeError
 
 EXPORT_PROP = "bdi_export"
@@ -35,13 +37,20 @@ def _animated(owner, prop):
             or (anim is not None and anim.drivers.find(path) is not None))
 
 
+def _grid_keys(obj):
+    """[(key block, its driver F-curve)] of the keys of a baked pose grid (Bake Grid) on obj."""
+    out = [(kb, playback.driver_of(kb)) for kb in obj.data.shape_keys.key_blocks
+           if GRID_BAKE_SEP in kb.name]
+    return [(kb, fc) for kb, fc in out if fc is not None]
+
+
 def driven_keys(obj):
-    """[(key block, its driver F-curve)] of every bake on obj; BakeError where there is no bake,
-    a key is missing or undriven, or a slider is not animated."""
-    recs = playback.records(obj)
-    if not recs:
-        raise BakeError("%r has no baked in-betweens: bake them first" % obj.name)
-    key, out = obj.data.shape_keys, []
+    """[(key block, its driver F-curve)] of every bake on obj (in-betweens and baked pose grids);
+    BakeError where there is none, a key is missing or undriven, or a slider is not animated."""
+    recs, grid = playback.records(obj), _grid_keys(obj)
+    if not recs and not grid:
+        raise BakeError("%r has no baked in-betweens or baked pose grid: bake them first" % obj.name)
+    key, out = obj.data.shape_keys, grid
     for slider, rec in recs.items():
         owner = playback.recorded_owner(obj, rec)
         if not _animated(owner, slider):
@@ -55,6 +64,19 @@ def driven_keys(obj):
                                 "bake again" % (name, obj.name, slider))
             out.append((kb, driver))
     return out
+
+
+def static_keys(obj, driven):
+    """[(key block, None)] of obj's other shown keys: not the reference, not muted, not driven, not
+    keyframed but by an earlier export bake. glTF animates a mesh's morph weights all in one, so
+    they are keyed too (at their constant values)."""
+    key, ours = obj.data.shape_keys, _ours(obj)
+    skip = {kb.name for kb, _ in driven}
+    return [(kb, None) for kb in key.key_blocks
+            if kb != key.reference_key and not kb.mute and kb.name not in skip
+            and playback.driver_of(kb) is None
+            and (kb.name in ours
+                 or actions.find_fcurve(key.animation_data, kb.path_from_id("value")) is None)]
 
 
 def _frame_range(scene, frame_start, frame_end):
@@ -99,7 +121,7 @@ def _sample(scene, plans, frames):
     values = {(obj.name, kb.name): [] for obj, keys in plans for kb, _ in keys}
     current = scene.frame_current, scene.frame_subframe
     mutes = [(driver, driver.mute) for obj, keys in plans for kb, driver in keys
-             if kb.name in _ours(obj)]  # a driver muted otherwise is the user's choice
+             if driver is not None and kb.name in _ours(obj)]  # else the user's choice
     try:
         for driver, _ in mutes:
             driver.mute = False
@@ -136,8 +158,9 @@ def _write(obj, keys, frames, values, undo):
         undo.append(lambda path=path: _remove_curve(anim, path))
         actions.set_points(fc, {"co": [c for f, v in zip(frames, values[obj.name, kb.name])
                                        for c in (f, v)], "interpolation": [LINEAR] * len(frames)})
-        undo.append(lambda driver=driver, mute=driver.mute: setattr(driver, "mute", mute))
-        driver.mute = True
+        if driver is not None:  # None: a key shown at a constant value (static_keys)
+            undo.append(lambda driver=driver, mute=driver.mute: setattr(driver, "mute", mute))
+            driver.mute = True
     obj[EXPORT_PROP] = {"keys": [kb.name for kb, _ in keys], "action": action,
                         "frames": [frames[0], frames[-1]]}
     undo.append(lambda: _set_record(obj, record))
@@ -192,6 +215,7 @@ def bake(objs, frame_start=None, frame_end=None):
     scene = bpy.context.scene
     a, b = _frame_range(scene, frame_start, frame_end)
     plans = [(obj, driven_keys(obj)) for obj in objs]
+    plans = [(obj, keys + static_keys(obj, keys)) for obj, keys in plans]
     _refuse_foreign(plans)
     frames = list(range(a, b + 1))
     values = _sample(scene, plans, frames)

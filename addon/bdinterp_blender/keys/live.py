@@ -61,6 +61,9 @@ def prepare(obj, settings, objs=None):
     """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing.
     objs: the objects of obj's character (default: those it holds, see character_objects)."""
     objs = character_objects(obj, settings.bake.target) if objs is None else objs
+    for o in objs or [obj]:  # the pose grids' key and the live key would both add their offsets
+        if len(getattr(o, "bdi_grids", ())):
+            raise BakeError("%s has pose grids: remove them first to use live mode" % o.name)
     if len(objs) > 1 and settings.mode != 'BLEND':
         return prepare_character(objs, settings)
     owner = next((o for o in bpy.data.objects if o != obj and getattr(o, "bdi", None) is not None
@@ -205,12 +208,13 @@ def write(obj, state, values, result):
     state.values = values
 
 
-def write_key(obj, source, co):
-    """Write co into obj's live key (created if missing), relative to the key `source`."""
+def write_key(obj, source, co, name=LIVE_KEY):
+    """Write co into obj's key `name` (default: the live key; created if missing, value 1),
+    relative to the key `source`."""
     key = obj.data.shape_keys
-    kb = key.key_blocks.get(LIVE_KEY)
+    kb = key.key_blocks.get(name)
     if kb is None:
-        kb = obj.shape_key_add(name=LIVE_KEY, from_mix=False)
+        kb = obj.shape_key_add(name=name, from_mix=False)
     if kb.relative_key.name != source:
         kb.relative_key = key.key_blocks[source]
     if kb.value != 1.0:
@@ -277,13 +281,18 @@ def on_property_change(obj):
 
 
 @contextmanager
-def suspended():
-    """Settings written inside do not recompute one by one (api.set_live writes several)."""
-    _suspended.append(True)
+def suspend(flags):
+    """Appends to the list `flags` while inside: a handler that sees it non-empty waits."""
+    flags.append(True)
     try:
         yield
     finally:
-        _suspended.pop()
+        flags.pop()
+
+
+def suspended():
+    """Settings written inside do not recompute one by one (api.set_live writes several)."""
+    return suspend(_suspended)
 
 
 def switch_on(obj, state, values, result):
@@ -340,20 +349,29 @@ HANDLERS = ((bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, 
             (bpy.app.handlers.load_post, on_load))
 
 
-def register():
-    for handlers, fn in HANDLERS:
+def add_handlers(pairs):
+    """Append each (handler list, function) of pairs, replacing stale copies of the function."""
+    for handlers, fn in pairs:
         # Drop stale copies left by an earlier load of this module (add-on reload).
         for h in [h for h in handlers if getattr(h, "__name__", "") == fn.__name__
                   and getattr(h, "__module__", "") == fn.__module__]:
             handlers.remove(h)
         handlers.append(fn)
+
+
+def remove_handlers(pairs):
+    for handlers, fn in pairs:
+        if fn in handlers:
+            handlers.remove(fn)
+
+
+def register():
+    add_handlers(HANDLERS)
     changes.subscribe(0, on_changes)
 
 
 def unregister():
     changes.unsubscribe(on_changes)
-    for handlers, fn in HANDLERS:
-        if fn in handlers:
-            handlers.remove(fn)
+    remove_handlers(HANDLERS)
     _states.clear()
     _failed.clear()

@@ -63,7 +63,7 @@ def failure(exc):
     return "%s: %s" % (type(exc).__name__, exc)
 
 
-class _ObjectOperator:
+class ObjectOperator:
     bl_options = {'REGISTER', 'UNDO'}
 
     @classmethod
@@ -85,7 +85,7 @@ class _ObjectOperator:
         return {'FINISHED'}
 
 
-class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
     """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
     (Esc cancels; nothing is written until the last in-between is computed)"""
     bl_idname = "bdinterp.bake"
@@ -146,7 +146,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         return {'FINISHED'}
 
 
-class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_bake_live(ObjectOperator, bpy.types.Operator):
     """Turn live mode into baked in-between keys and a playback slider animated like the live
     factor, so that the file plays and renders without the add-on"""
     bl_idname = "bdinterp.bake_live"
@@ -156,7 +156,7 @@ class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
         return api.bake_live(obj).message
 
 
-class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_clear(ObjectOperator, bpy.types.Operator):
     """Remove the baked in-betweens of the source and target keys, their drivers and slider
     (of every selected object that has the target key, as the bake made them)"""
     bl_idname = "bdinterp.clear"
@@ -167,7 +167,7 @@ class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
         return "Removed %d baked keys" % len(removed)
 
 
-class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_blend(ObjectOperator, bpy.types.Operator):
     """Bake a bounded-distortion blend of the pose keys with their weights into one key"""
     bl_idname = "bdinterp.blend"
     bl_label = "Bake Pose Blend"
@@ -180,7 +180,7 @@ class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
         return "Baked %s: max distortion %.4g (poses %.4g)" % (name, k_out, k_in)
 
 
-class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_add(ObjectOperator, bpy.types.Operator):
     """Add the active shape key to the poses to blend"""
     bl_idname = "bdinterp.pose_add"
     bl_label = "Add Pose"
@@ -194,7 +194,7 @@ class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_pose_remove(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_remove(ObjectOperator, bpy.types.Operator):
     """Remove this pose from the blend"""
     bl_idname = "bdinterp.pose_remove"
     bl_label = "Remove Pose"
@@ -207,7 +207,7 @@ class BDINTERP_OT_pose_remove(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_anchor_from_selection(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_anchor_from_selection(ObjectOperator, bpy.types.Operator):
     """Anchor the interpolation at the active (or first) selected vertex"""
     bl_idname = "bdinterp.anchor_from_selection"
     bl_label = "Use Selected Vertex"
@@ -237,7 +237,7 @@ def selected_vertex(obj):
     return next((v.index for v in obj.data.vertices if v.select), None)
 
 
-class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_distortion(ObjectOperator, bpy.types.Operator):
     """Show the per-face conformal distortion of the active baked or live key as colours"""
     bl_idname = "bdinterp.distortion"
     bl_label = "Distortion View"
@@ -252,7 +252,7 @@ class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):
         return "Distortion of %s: max %.4g" % (obj.active_shape_key.name, float(k.max()))
 
 
-class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_easing_curve_new(ObjectOperator, bpy.types.Operator):
     """Create a custom easing curve (x: slider position, y: interpolation factor)"""
     bl_idname = "bdinterp.easing_curve_new"
     bl_label = "New Curve"
@@ -264,7 +264,7 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_bake_export(ObjectOperator, bpy.types.Operator):
     """Write what the playback slider shows at every frame of the scene's range as keyframes on
     the baked keys (drivers muted), so that glTF, FBX and Alembic exports play the in-betweens"""
     bl_idname = "bdinterp.bake_export"
@@ -274,7 +274,7 @@ class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
         return api.bake_for_export(export_objects(context))
 
 
-class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_remove_export(ObjectOperator, bpy.types.Operator):
     """Remove the keyframes of Bake for Export and let the playback slider drive the keys again"""
     bl_idname = "bdinterp.remove_export"
     bl_label = "Remove Export Bake"
