@@ -57,9 +57,9 @@ def read(depsgraph, frame):
 
 
 def dispatch(scene, depsgraph, frame):
-    changes = read(depsgraph, frame)
+    changed = read(depsgraph, frame)
     for _, fn in list(_subscribers):
-        fn(scene, depsgraph, changes)
+        fn(scene, depsgraph, changed)
 
 
 @persistent
