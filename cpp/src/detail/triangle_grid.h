@@ -46,8 +46,25 @@ class TriangleGrid {
     }
   }
 
-  bool boxes_meet(const TriangleGrid& o) const {
-    return (lo_.array() <= o.hi_.array()).all() && (o.lo_.array() <= hi_.array()).all();
+  // Whether the two pieces' bounding boxes meet once each is grown by `margin`.
+  bool boxes_meet(const TriangleGrid& o, double margin = 0) const {
+    return (lo_.array() <= o.hi_.array() + 2 * margin).all() && (o.lo_.array() <= hi_.array() + 2 * margin).all();
+  }
+  // The piece's size: its bounding box's diagonal in the base shape.
+  double diagonal() const { return (hi_ - lo_).norm(); }
+  // How far q lies outside the piece (0 inside or on its outline).
+  double outside(const Eigen::Vector2d& q) const {
+    int f;
+    Eigen::Vector3d bary;
+    if (locate(q, f, bary) >= -kInside) return 0;
+    double best = HUGE_VAL;
+    for (int g = 0; g < piece_.faces->rows(); ++g)
+      for (int c = 0; c < 3; ++c) {  // the nearest point of the outline lies on some face's edge
+        const Eigen::Vector2d a = corner(g, c), e = corner(g, (c + 1) % 3) - a;
+        const double s = std::clamp((q - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (a + s * e - q).norm());
+      }
+    return best;
   }
   // The face holding q with the largest least barycentric weight (-inf and face -1 if q is outside
   // the box); bary gets its weights.
