@@ -9,9 +9,9 @@ import threading
 import bpy
 from bpy.props import EnumProperty, IntProperty
 
-from . import api
-from .character import selected_meshes
-from .settings import CURVE_NODE, from_props
+from .. import api
+from ..bake.character import selected_meshes
+from ..shapes.settings import CURVE_NODE, from_props
 
 
 def settings_for(props, objs=None):
@@ -276,7 +276,7 @@ class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
 
 def export_objects(context):
     """The active object and the selected mesh objects that hold a bake."""
-    from .names import BAKES_PROP
+    from ..names import BAKES_PROP
     return [o for o in selected_meshes(context) if o == context.object or o.get(BAKES_PROP)]
 
 

@@ -10,7 +10,7 @@ import tempfile
 
 import bpy
 
-from .core import load_core
+from ..core import load_core
 from .painting_files import read_painting
 from . import sprite_mesh
 
