@@ -15,7 +15,7 @@ import mathutils
 import numpy as np
 import pytest
 
-from conftest import ROOT, add_key, evaluated_co, mesh_object
+from conftest import ROOT, add_key, bone_pieces, new_armature, world
 
 sys.path.insert(0, os.path.join(ROOT, "tests", "python"))
 from biped import BONES, PIECES, POSES, rigid_fit_error  # noqa: E402
@@ -28,36 +28,14 @@ RIG_AT = (0.4, -0.3, 0.2)  # the armature object away from the origin
 def armature():
     """Every bone from its pivot straight up (+Y, no roll): its local axes are the armature's, so
     a pose bone's location is its offset in its parent's frame and a turn about Z its angle."""
-    arm = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
-    bpy.context.scene.collection.objects.link(arm)
-    arm.location = RIG_AT
-    bpy.context.view_layer.objects.active = arm
-    bpy.ops.object.mode_set(mode='EDIT')
-    for name, (parent, pivot, _) in BONES.items():
-        bone = arm.data.edit_bones.new(name)
-        bone.head = (pivot[0] - RIG_AT[0], pivot[1] - RIG_AT[1], -RIG_AT[2])
-        bone.tail = (pivot[0] - RIG_AT[0], pivot[1] - RIG_AT[1] + 0.5, -RIG_AT[2])
-        bone.parent = arm.data.edit_bones[parent] if parent else None
-    bpy.ops.object.mode_set(mode='OBJECT')
-    return arm
+    return new_armature([(name, parent, pivot, (pivot[0], pivot[1] + 0.5))
+                         for name, (parent, pivot, _) in BONES.items()], RIG_AT)
 
 
-def pieces(arm, parented):
-    """One object per sprite at depth 0.01 per piece in draw order, all its vertices in its bone's
-    vertex group with an Armature modifier (parented: the object's parent is its bone)."""
-    objs = []
-    for k, name in enumerate(PIECES):
-        V, F = rectangle(*BONES[name][2], 0.12, seed=k)
-        obj = mesh_object(name, np.c_[V, np.full(len(V), 0.01 * k)], F)
-        if parented:
-            obj.parent, obj.parent_type, obj.parent_bone = arm, 'BONE', name
-            bpy.context.view_layer.update()
-            obj.matrix_world = mathutils.Matrix.Identity(4)
-        else:
-            obj.vertex_groups.new(name=name).add(list(range(len(V))), 1.0, 'REPLACE')
-            obj.modifiers.new("Armature", 'ARMATURE').object = arm
-        objs.append(obj)
-    return objs
+def pieces(arm, parented=False):
+    """One object per piece, moved by its bone (conftest.bone_pieces)."""
+    return bone_pieces(arm, [(name, rectangle(*BONES[name][2], 0.12, seed=k)) for k, name in enumerate(PIECES)],
+                       parented)
 
 
 def pose(arm, angles, t):
@@ -69,15 +47,6 @@ def pose(arm, angles, t):
         pb.rotation_quaternion = mathutils.Quaternion((0, 0, 1), math.radians(t * angle))
         pb.location = (t * dx, t * dy, 0.0)
     bpy.context.view_layer.update()
-
-
-def world(objs):
-    """(n, 3) the objects' evaluated vertices in world space, one object after the other."""
-    out = []
-    for obj in objs:
-        m = np.array(obj.matrix_world)
-        out.append(evaluated_co(obj) @ m[:3, :3].T + m[:3, 3])
-    return np.concatenate(out)
 
 
 def character(angles, parented):
