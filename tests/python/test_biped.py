@@ -176,3 +176,12 @@ def test_a_hip_that_slides_keeps_the_thigh_on_the_torso(slide):
         err = np.linalg.norm(X - bones(t), axis=1).max()
         assert err <= bound and err / ch.size < LIMIT, (t, err, bound)
     assert I.joint_roots()[0]["reason"] == "still"
+
+
+def test_a_root_path_is_checked_like_a_link(biped):
+    ch = biped
+    keys, torso = [ch.V, posed(ch, POSES["run"], 1.0)], int(ch.ranges[0][0])
+    with pytest.raises(ValueError, match=r"joint link 0: vertex -2 out of range"):
+        bdinterp.Interpolator(keys, ch.F, joints=[(-2, torso, (0.0, 0.0))])
+    with pytest.raises(ValueError, match=r"joint link 1: its child piece already hangs from link 0"):
+        bdinterp.Interpolator(keys, ch.F, joints=[(-1, torso, (0.0, 0.0)), (-1, torso + 1, (0.0, 0.0))])
