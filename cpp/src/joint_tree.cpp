@@ -135,7 +135,7 @@ bool classify(const std::vector<Positions>& shapes, int base, double size, const
   if (turns) {
     refine_pin(shapes, base, a, b, q);
     const double gap = joint_gap(shapes, base, a, b, q) / size, reach = pin_reach(a, b);
-    const double out_a = a.outside(q), out_b = b.outside(q);
+    const double out_a = a.outside(q, 2 * reach), out_b = b.outside(q, 2 * reach);
     if (gap <= Joints::kPinGap && out_a <= reach && out_b <= reach) {
       out = {{-1, -1, q, JointKind::Pin, gap}, gap / Joints::kPinGap + (out_a + out_b) / reach + turn / M_PI};
       return true;
@@ -202,8 +202,8 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
 }
 
 // Piece p's own motion as a turn about a point inside (or nearest to) it, ranked like a pin: the
-// distance of its fixed point outside the piece relative to the pins' reach (pin_reach, of the
-// piece's own size), plus its largest turn / pi (of
+// distance of its fixed point outside the piece relative to the pins' reach (of the piece's own
+// size; a point farther than ten reaches counts as ten), plus its largest turn / pi (of
 // two pieces whose fixed points lie inside them, the one that turns less leaves less to the path its
 // tree's root takes, which two keys do not fix); a piece that only travels (turns by no more than
 // kPinGap) ranks 0.
@@ -213,7 +213,8 @@ JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& g
   for (size_t i = 0; i < k; ++i) own.push_back(motion(pieces[p], base, i)), turn = std::max(turn, std::abs(own.back().angle));
   Eigen::Vector2d q;
   if (turn <= Joints::kPinGap || !pin_guess(own, q)) return {p, RootReason::Travels, 0.0, Eigen::Vector2d::Zero()};
-  return {p, RootReason::Turns, grid.outside(q) / (Joints::kPinReach * grid.diagonal()) + turn / M_PI, q};
+  const double reach = Joints::kPinReach * grid.diagonal();
+  return {p, RootReason::Turns, grid.outside(q, 10 * reach) / reach + turn / M_PI, q};
 }
 
 // Roots: the anchored piece alone in its tree (so the anchor holds); elsewhere every still piece
