@@ -5,15 +5,16 @@ Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, t
 Subpackages by the animator's task, each importing only from the layers before it
 (tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
 timing -> shapes (keys read, settings, solve: no writes) -> files (paintings in, Mesh from Image)
-and bake (slider, bake jobs, export, characters, live mode) -> view (what the viewport draws) ->
-api (the scripting facade) -> ui (properties, operators, panels) -> this file (registration).
+and keys (what writes shape keys: the slider, bake jobs, export, characters, live mode) -> view
+(what the viewport draws) -> api (the scripting facade) -> ui (properties, operators, panels) ->
+this file (registration).
 """
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
 MODULES = ("core", "names", "actions", "timing",
            "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
-           "bake.playback", "bake.baking", "bake.export", "bake.character", "bake.live",
+           "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.drawing_bind",
            "api", "ui.properties", "ui.operators", "ui.panels")
 
@@ -73,7 +74,7 @@ def register():
     else:
         from .ui import properties, operators
         from .view import onion, drawing_bind
-        from .bake import live as live_mod
+        from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
         _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
     for mod in _modules:

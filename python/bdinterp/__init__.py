@@ -8,7 +8,7 @@ Public API (numpy in, numpy out):
         .at(t), .blend(weights), .frames(ts), .stats (FrameStats)
     conformal_distortion(source, result, faces), area_ratio(source, result, faces),
     flipped_faces(source, result, faces)
-    mesh_from_image(image, *, threshold, spacing, detail, padding, min_angle, min_area) -> SpriteMesh
+    mesh_from_image(image, **options) -> SpriteMesh (options: SpriteMeshOptions' fields)
         (a triangle mesh of a sprite's alpha)
     Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
     AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
@@ -23,10 +23,11 @@ from .distortion import area_ratio, conformal_distortion, flipped_faces
 from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
 from .layers import Layers
 from .plane import Plane
-from .sprite import SpriteMesh, mesh_from_image
+from .sprite import SpriteMesh, SpriteMeshOptions, mesh_from_image
 
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
-           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh", "__version__"]
+           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh",
+           "SpriteMeshOptions", "__version__"]

@@ -6,14 +6,14 @@ import bpy
 
 from ..core import load_core
 
-# Presets: (label, description, parameters); spacing is a fraction of the sprite's larger side.
+# Presets: (label, description, parameters); spacing_divisions: edges across the sprite's larger side.
 PRESETS = {
     "RIGID": ("A rigid part", "Few triangles: a part that moves but hardly bends",
-              dict(spacing_fraction=1 / 4, detail=1.5, min_angle=20.0)),
+              dict(spacing_divisions=4, detail=1.5, min_angle=20.0)),
     "BENDS": ("A part that bends", "About twelve triangles across: arms, tails, hair",
-              dict(spacing_fraction=1 / 12, detail=1.0, min_angle=25.0)),
+              dict(spacing_divisions=12, detail=1.0, min_angle=25.0)),
     "FACE": ("A face", "Fine and even triangles for expressions",
-             dict(spacing_fraction=1 / 24, detail=0.5, min_angle=28.0)),
+             dict(spacing_divisions=24, detail=0.5, min_angle=28.0)),
 }
 
 
@@ -99,13 +99,13 @@ def mesh_from_image(objs, **params):
 
 
 def params_of(op, obj):
-    """The operator's parameters as mesh_from_image's keywords (spacing from the preset's fraction
-    of obj's image size when the operator's spacing is 0)."""
-    spacing = op.spacing if op.spacing > 0 else None
-    if spacing is None and op.preset in PRESETS and obj is not None and image_of(obj) is not None:
-        spacing = max(2.0, max(image_of(obj).size) * PRESETS[op.preset][2]["spacing_fraction"])
-    return dict(threshold=op.threshold, spacing=spacing, detail=op.detail, padding=op.padding,
-                min_angle=op.min_angle)
+    """The operator's parameters as mesh_from_image's keywords: spacing 0 is the sprite's larger
+    side over the preset's spacing_divisions (the core's own default for Custom)."""
+    params = dict(threshold=op.threshold, spacing=op.spacing, detail=op.detail,
+                  padding=op.padding, min_angle=op.min_angle)
+    if op.spacing == 0 and op.preset in PRESETS:
+        params["spacing_divisions"] = PRESETS[op.preset][2]["spacing_divisions"]
+    return params
 
 
 def _apply_preset(self, context):

@@ -10,7 +10,7 @@ import bpy
 from bpy.props import EnumProperty, IntProperty
 
 from .. import api
-from ..bake.character import selected_meshes
+from ..keys.character import selected_meshes
 from ..shapes.settings import CURVE_NODE, from_props
 
 

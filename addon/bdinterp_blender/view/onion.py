@@ -88,7 +88,7 @@ def drawn_objects(context):
         return []
     if obj.mode == 'EDIT' or obj.data.shape_keys is None:
         return []
-    from ..bake.character import members, selected_meshes
+    from ..keys.character import members, selected_meshes
     return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
 
 

@@ -5,6 +5,7 @@ module that writes baked shape keys.
 """
 
 import json
+from dataclasses import dataclass, field
 import time
 
 from .. import actions, timing
@@ -15,16 +16,26 @@ from ..shapes.settings import from_props
 from ..shapes.solve import Inputs, max_distortion
 
 
+@dataclass
 class BakeResult:
     """What a bake wrote: keys, factors, slider positions, slider property, distortion (max K of
     the in-betweens and of the target), folded polygons, seconds, and a note (e.g. why the slider
     did not take over the target key)."""
-
-    def __init__(self, **kw):
-        self.folded, self.seconds, self.note, self.joints, self.objects = [], 0.0, "", 0, 1
-        self.folded_name = ""  # how to name folded[0] (several objects: with its object)
-        self.joint_source = ""  # where the joints came from ("bones of 'Rig'"); "" found from the keys
-        self.__dict__.update(kw)
+    source: str
+    target: str
+    max_distortion: float
+    input_distortion: float
+    keys: list = field(default_factory=list)
+    factors: list = field(default_factory=list)
+    positions: list = field(default_factory=list)
+    slider: object = None
+    folded: list = field(default_factory=list)
+    folded_name: str = ""  # how to name folded[0] (several objects: with its object)
+    joints: int = 0
+    joint_source: str = ""  # where the joints came from ("bones of 'Rig'"); "" found from the keys
+    objects: int = 1
+    seconds: float = 0.0
+    note: str = ""
 
     @property
     def message(self):
@@ -132,11 +143,20 @@ class BakeJob:
                                       signature_=plan.signature, slider=plan.slider, owner=plan.owner)
 
 
+@dataclass
 class Plan:
-    """What BakeJob.write() writes into one object (see BakeJob.plan)."""
-
-    def __init__(self, **kw):
-        self.__dict__.update(kw)
+    """What BakeJob.write() writes into one object (see BakeJob.plan): keys `names` with `frames`
+    relative to `source`, an `end_key` copy of the target or None, the slider on `owner`."""
+    obj: object
+    owner: object
+    source: str
+    target: str
+    names: list
+    frames: list
+    end_key: object
+    slider: str
+    note: str
+    signature: object
 
 
 def measures(inp, shapes, solver=None, note=""):
