@@ -121,9 +121,10 @@ struct Candidate {
 // the refined fixed point of the relative motion lies within pin_reach of both pieces and both
 // carry it to one place in every input. Slide: b moves against a, turning or not, by at most
 // kSlideMost of the size at the overlap's vertex nearest the relative motion's fixed point (a hip
-// that the rig translates under the thighs); it sits there. Candidates rank pins first, by gap,
-// distance outside the pieces and largest relative turn (a joint turns less than a chain through
-// it), then glued, then slides, each by its fit.
+// that the rig translates under the thighs); it sits there. Candidates rank pins first, by the
+// larger of their gap (over kPinGap) and distance outside the pieces (over the reach), plus their
+// largest relative turn (a joint turns less than a chain through it), then glued, then slides,
+// each by its fit.
 bool classify(const std::vector<Positions>& shapes, int base, double size, const TriangleGrid& a,
               const TriangleGrid& b, const std::vector<int>& overlap, Candidate& out) {
   const Positions& X = shapes[static_cast<size_t>(base)];
@@ -137,7 +138,8 @@ bool classify(const std::vector<Positions>& shapes, int base, double size, const
     const double gap = joint_gap(shapes, base, a, b, q) / size, reach = pin_reach(a, b);
     const double out_a = a.outside(q, 2 * reach), out_b = b.outside(q, 2 * reach);
     if (gap <= Joints::kPinGap && out_a <= reach && out_b <= reach) {
-      out = {{-1, -1, q, JointKind::Pin, gap}, gap / Joints::kPinGap + (out_a + out_b) / reach + turn / M_PI};
+      const double fit = std::max(gap / Joints::kPinGap, 0.5 * (out_a + out_b) / reach);  // at most 1
+      out = {{-1, -1, q, JointKind::Pin, gap}, fit + turn / M_PI};
       return true;
     }
   }
