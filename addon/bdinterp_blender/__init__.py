@@ -6,8 +6,8 @@ Subpackages by the animator's task, each importing only from the layers before i
 (tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
 timing -> shapes (keys read, settings, solve: no writes) -> files (paintings in, Mesh from Image)
 and keys (what writes shape keys: the slider, bake jobs, export, characters, live mode) -> view
-(what the viewport draws) -> api (the scripting facade) -> ui (properties, operators, panels) ->
-this file (registration).
+(what the viewport draws) -> api (the scripting facade) and strokes (Grease Pencil in-betweens,
+their operator and panel) -> ui (properties, operators, panels) -> this file (registration).
 """
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
@@ -16,7 +16,7 @@ MODULES = ("core", "names", "actions", "timing",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
            "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.drawing_bind",
-           "api", "ui.properties", "ui.operators", "ui.panels")
+           "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators", "ui.panels")
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
@@ -53,11 +53,12 @@ from .files.sprite_mesh import mesh_from_image  # noqa: E402
 from .files.layered_import import import_layered  # noqa: E402
 from .view.motion_trails import trails  # noqa: E402
 from .view.drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
+from .strokes.drawing import interpolate_drawing  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing"]
+           "bind_drawing", "unbind_drawing", "interpolate_drawing"]
 
 _modules = []
 
@@ -76,7 +77,9 @@ def register():
         from .view import onion, drawing_bind
         from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
-        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
+        from .strokes import ops as strokes_ops
+        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
+                    strokes_ops]
     for mod in _modules:
         mod.register()
 

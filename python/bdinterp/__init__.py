@@ -10,6 +10,7 @@ Public API (numpy in, numpy out):
     flipped_faces(source, result, faces)
     mesh_from_image(image, **options) -> SpriteMesh (options: SpriteMeshOptions' fields)
         (a triangle mesh of a sprite's alpha)
+    Stroke, StrokeInterpolator, interpolate_strokes (drawn strokes as thin bands, bdinterp.strokes)
     Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
     AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
     threading_info() (usable cores, the busy verdict, the BLAS/OpenMP runtimes CHOLMOD calls)
@@ -24,10 +25,12 @@ from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
 from .layers import Layers
 from .plane import Plane
 from .sprite import SpriteMesh, SpriteMeshOptions, mesh_from_image
+from . import strokes
+from .strokes import Stroke, StrokeInterpolator, interpolate_strokes
 
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
            "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh",
-           "SpriteMeshOptions", "__version__"]
+           "SpriteMeshOptions", "strokes", "Stroke", "StrokeInterpolator", "interpolate_strokes", "__version__"]

@@ -112,9 +112,7 @@ def _object(name, parts):
     faces = np.concatenate([p[2] + o for p, o in zip(parts, offsets)])
     uvs = np.concatenate([p[3] for p in parts])
     me = bpy.data.meshes.new(name)
-    me.from_pydata(co.tolist(), [], faces.tolist())
-    layer = me.uv_layers.new(name="UVMap")
-    layer.data.foreach_set("uv", uvs[faces.reshape(-1)].astype(np.float32).ravel())
+    sprite_mesh.fill(me, co, faces, uvs)
     for p in parts:
         me.materials.append(p[0])
     me.polygons.foreach_set("material_index", np.repeat(np.arange(len(parts)), [len(p[2]) for p in parts]))

@@ -76,15 +76,20 @@ def plan(obj, **params):
     return local, mesh.faces, mesh.uvs
 
 
-def write(obj, local, faces, uvs):
-    """Replaces obj's geometry in place (its materials, name and users kept), UVs onto the image."""
+def fill(me, co, faces, uvs):
+    """Mesh `me` (empty) made of vertices co (n, 3), triangles faces (m, 3) and per-vertex uvs
+    (n, 2) in the layer 'UVMap'; the caller calls me.update() after its own additions."""
     import numpy as np  # heavy: imported when used
-    me = obj.data
-    me.clear_geometry()
-    me.from_pydata(local.tolist(), [], faces.tolist())
+    me.from_pydata(co.tolist(), [], faces.tolist())
     layer = me.uv_layers.new(name="UVMap")
     layer.data.foreach_set("uv", uvs[faces.reshape(-1)].astype(np.float32).ravel())
-    me.update()
+
+
+def write(obj, local, faces, uvs):
+    """Replaces obj's geometry in place (its materials, name and users kept), UVs onto the image."""
+    obj.data.clear_geometry()
+    fill(obj.data, local, faces, uvs)
+    obj.data.update()
 
 
 def mesh_from_image(objs, **params):

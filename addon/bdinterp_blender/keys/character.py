@@ -41,6 +41,10 @@ def members(objects, target):
     return out
 
 
+# What a character takes from its first object's Inputs as they are.
+KEYS_OF_FIRST = ("obj", "key", "source", "others", "names")
+
+
 class CharacterInputs(solve.Inputs):
     """The Inputs of several objects as one mesh in world space: shapes (k, n, 3) concatenated in
     the order of `parts` (each object's own validated Inputs), faces renumbered; obj is the first
@@ -50,26 +54,22 @@ class CharacterInputs(solve.Inputs):
         import numpy as np
         parts = settings.but(anchor="AUTO", anchor_path=None, joints="off")
         self.parts = [solve.Inputs(obj, parts, layered=False) for obj in objs]
-        first = self.parts[0]
-        self.obj, self.key, self.source, self.others = first.obj, first.key, first.source, first.others
-        self.obj_name = "character of %d objects" % len(objs)
-        self.names, self.joint_mode = first.names, settings.joints
+        for name in KEYS_OF_FIRST:  # the first object's keys name the character's (its slider)
+            setattr(self, name, getattr(self.parts[0], name))
+        self.obj_name, self.raw = "character of %d objects" % len(objs), None  # raw: in parts
         self.offsets = np.cumsum([0] + [len(p.shapes[0]) for p in self.parts])
-        # the shapes are in world space: so is the anchor path (no object's matrix)
-        self.anchor = solve.resolve_anchor(None, self.stacked_vertex(settings.anchor),
-                                           settings.path_object(), 1)
         self.faces = np.concatenate([p.faces + o for p, o in zip(self.parts, self.offsets)])
         # polygons numbered across the objects, so that folds count each object's apart
         self.poly_offsets = np.cumsum([0] + [len(p.obj.data.polygons) for p in self.parts])
         self.poly = np.concatenate([p.poly + o for p, o in zip(self.parts, self.poly_offsets)])
         self.face_offsets = np.cumsum([0] + [len(p.faces) for p in self.parts])
-        self.raw = None
         world = [np.concatenate([to_world(p.obj, p.shapes[i]) for p in self.parts])
                  for i in range(len(self.names))]
-        self.shapes = self.layered(world, settings.planarity)
-        self.joints, self.joint_source = self.find_joints([rig.Member(
-            p.obj, int(o), p.source_read, lambda x, obj=p.obj: to_world(obj, x),
-            p.reference_shape) for p, o in zip(self.parts, self.offsets)])
+        # the shapes are in world space: so is the anchor path (no object's matrix)
+        self.complete(world, settings, solve.resolve_anchor(
+            None, self.stacked_vertex(settings.anchor), settings.path_object(), 1), [rig.Member(
+                p.obj, int(o), p.source_read, lambda x, obj=p.obj: to_world(obj, x),
+                p.reference_shape) for p, o in zip(self.parts, self.offsets)])
 
     def stacked_vertex(self, anchor):
         """The character's vertex index of `anchor`: 'AUTO'/None (None), (object or its name,

@@ -87,8 +87,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         job = api.job_of(objs, settings_for(obj.bdi, objs))
         wm.progress_begin(0, job.total)
         try:
-            while not job.finished:
-                wm.progress_update(job.step())
+            api.run(job, lambda done, total: wm.progress_update(done))
             return job.finish().message
         finally:
             wm.progress_end()
