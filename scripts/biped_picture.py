@@ -18,7 +18,7 @@ sys.path[:0] = [os.path.join(ROOT, "python"), os.path.join(ROOT, "tests", "pytho
                 os.path.join(ROOT, "scripts")]
 import bdinterp  # noqa: E402
 from biped import PIECES, POSES, posed  # noqa: E402
-from joints_picture import draw  # noqa: E402
+from joints_picture import draw, save  # noqa: E402
 from test_biped import biped_character  # noqa: E402
 
 OUT = os.path.join(ROOT, "docs", "gallery", "joints_biped.png")
@@ -51,11 +51,7 @@ def main():
         draw(b, ch, X, colour, 0.15)
     b.set_title("the fall at t = 1/2: the bones' (green), pins (blue),\nthe linear blend (orange); "
                 "the keys in grey", fontsize=10)
-    for ax in (a, b):
-        ax.set_aspect("equal")
-        ax.axis("off")
-    fig.savefig(OUT, dpi=80, bbox_inches="tight")
-    print("wrote", OUT)
+    save(fig, OUT, 80)
 
 
 if __name__ == "__main__":
