@@ -84,9 +84,8 @@ def test_the_linear_blend_is_far_from_the_bones(biped):
         assert worst > 0.02, name
 
 
-def test_the_biped_is_drawn_like_a_painted_one(biped):
+def test_the_biped_is_drawn_like_a_painted_one():
     # The gaps and the sprite-less bones the rules are for.
-    ch = biped
     assert len(PIECES) >= 15
     for child in ("shin_l", "fore_r"):
         parent, (x, y) = BONES[child][0], BONES[child][1]

@@ -152,7 +152,8 @@ bool classify(const std::vector<Positions>& shapes, int base, double size, const
   });
   const Eigen::Vector2d at = turns ? Eigen::Vector2d(X.row(v).transpose()) : centre;
   double moved = 0;
-  for (const RigidMotion& m : rel) moved = std::max(moved, std::abs(detail::wrap_angle(m.angle)) * size + (m(at) - at).norm());
+  for (const RigidMotion& m : rel)
+    moved = std::max(moved, std::abs(detail::wrap_angle(m.angle)) * size + (m(at) - at).norm());
   const bool glued = moved <= Joints::kPinGap * size;
   if (turns && largest_shift(rel, X.row(v).transpose()) > Joints::kSlideMost * size) return false;
   out = {{-1, -1, X.row(v).transpose(), glued ? JointKind::Glued : JointKind::Slide, moved / size},
@@ -212,7 +213,10 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
 JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& grid, int p, int base, size_t k) {
   std::vector<RigidMotion> own;
   double turn = 0;
-  for (size_t i = 0; i < k; ++i) own.push_back(motion(pieces[p], base, i)), turn = std::max(turn, std::abs(own.back().angle));
+  for (size_t i = 0; i < k; ++i) {
+    own.push_back(motion(pieces[p], base, i));
+    turn = std::max(turn, std::abs(own.back().angle));
+  }
   Eigen::Vector2d q;
   if (turn <= Joints::kPinGap || !pin_guess(own, q)) return {p, RootReason::Travels, 0.0, Eigen::Vector2d::Zero()};
   const double reach = Joints::kPinReach * grid.diagonal();
@@ -223,8 +227,9 @@ JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& g
 // (so none is moved by another); per remaining tree the piece whose own motion is best a turn about
 // a point inside it (root_rank; ties: the piece that moves least), so that a chain joined to
 // nothing still turns about its shoulder, not about its hand.
-std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces,
-                                    const std::vector<TriangleGrid>& grids, int root, double size, std::vector<int>& up) {
+std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int base,
+                                    const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                    int root, double size, std::vector<int>& up) {
   const int n = static_cast<int>(pieces.size());
   const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
   std::vector<JointRoot> roots;
@@ -311,7 +316,8 @@ std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, in
   for (size_t k = 0; k < links.size(); ++k) {
     std::ostringstream s;
     s << "joint link " << k << ": ";
-    if (links[k].parent == links[k].child) throw InvalidInput(s.str() + "its parent and child vertices are in one piece");
+    if (links[k].parent == links[k].child)
+      throw InvalidInput(s.str() + "its parent and child vertices are in one piece");
     std::vector<int>& slot = links[k].parent < 0 ? path_link : parent_link;
     if (parent_link[links[k].child] >= 0 || path_link[links[k].child] >= 0)
       throw InvalidInput(s.str() + "its child piece already hangs from link " +
