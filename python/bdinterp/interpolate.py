@@ -217,10 +217,13 @@ class Interpolator:
     def joints(self):
         """The joints between pieces (parents first): dicts with parent and child (each piece by its
         lowest vertex), point ((2,) or, for 3D input, (3,) on the child's plane in the base shape),
-        kind ("pin": the child turns about the point against its parent in every input; "glued": it
-        moves with its parent; "given": a link of joints=[...]), pin (both pieces carry the point to
+        kind ("pin": the child turns about the point, inside both pieces or just outside within
+        the pins' reach, against its parent in every input; "glued": it moves with its parent;
+        "slide": it moves against its parent at an overlap point, without turning or about a pivot
+        the keys translate; "given": a link of joints=[...]), pin (both pieces carry the point to
         one place in every input, to 0.1 % of the size) and fit (that largest gap over the inputs,
-        for "glued" the largest relative motion, relative to the size). Empty with joints=False."""
+        for "glued" and "slide" the largest relative motion, relative to the size). Empty with
+        joints=False; joint_roots() gives each tree's root."""
         out = self._core.joints()
         for j in out:
             if self._layers is not None:
