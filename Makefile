@@ -6,6 +6,15 @@ BUILD   ?= build
 JOBS    ?= 2
 PIP_INSTALL = $(PYTHON) -m pip install --no-build-isolation --no-deps --break-system-packages --quiet
 VERSION := $(shell cat VERSION)
+# ccache where installed (scripts/setup-debian.sh installs it): a compile that another build of
+# this run has done (the library in `build`, `pip install .`, the CHOLMOD-from-source builds), or
+# an earlier run in any clone (paths relative to the checkout), is not done again. The chroots'
+# builds (no ccache there) drop the launcher (scripts/build-portable.sh).
+# Recursive (=): looked up when a recipe runs, after `setup` has installed it on a fresh machine.
+CCACHE = $(shell command -v ccache 2>/dev/null)
+export CMAKE_C_COMPILER_LAUNCHER = $(CCACHE)
+export CMAKE_CXX_COMPILER_LAUNCHER = $(CCACHE)
+export CCACHE_BASEDIR = $(CURDIR)
 # The shipped modules and the chroots they are built and tested in (made afresh in a fresh clone).
 PORTABLE ?= $(BUILD)/portable
 export BDI_CHROOTS ?= $(CURDIR)/$(PORTABLE)/chroots
@@ -177,7 +186,7 @@ FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(FUZZ_SOURCES))
 .SECONDARY: $(FUZZ_OBJECTS)
 $(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/*/*.h)
 	@mkdir -p $(dir $@)
-	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+	$(CCACHE) $(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
 $(FUZZ_BUILD)/%: tests/fuzz/%.cpp tests/fuzz/fuzz_common.h $(FUZZ_OBJECTS)
 	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer $< $(FUZZ_OBJECTS) -lcholmod -lpthread -o $@
 fuzz-build: $(addprefix $(FUZZ_BUILD)/,$(FUZZ_TARGETS))

@@ -8,7 +8,9 @@ solve, a comparison of the factor/weights with the last ones written, and the fo
 cache is rebuilt when a setting changes and re-checked (the input keys re-read and compared)
 when the depsgraph reports the object's shape keys updated (writes made in frame_change_post,
 i.e. during playback, are not reported, so playback never pays for the check).
-On any error live mode turns itself off for that object with one message (console + panel).
+On any error live mode turns itself off for that object with one message (console + panel); an
+object whose error could not even switch it off (Blender forbids writes in some handlers) is left
+alone by the handlers until live mode is switched on again, so that no error repeats every frame.
 """
 
 from collections import namedtuple
@@ -40,6 +42,7 @@ class State:
 
 
 _states = {}   # object name -> State
+_failed = set()  # names of objects whose live mode failed: the handlers leave them alone
 _suspended = []  # non-empty while api.set_live writes several settings: no recompute per write
 
 
@@ -57,6 +60,9 @@ def prepare(obj, settings, objs=None):
     """Validate `settings` for obj and precompute (BakeError naming what is wrong); writes nothing.
     objs: the objects of obj's character (default: those it holds, see character_objects)."""
     objs = character_objects(obj, settings.bake.target) if objs is None else objs
+    for o in objs or [obj]:  # the pose grids' key and the live key would both add their offsets
+        if len(getattr(o, "bdi_grids", ())):
+            raise BakeError("%s has pose grids: remove them first to use live mode" % o.name)
     if len(objs) > 1 and settings.mode != 'BLEND':
         return prepare_character(objs, settings)
     owner = next((o for o in bpy.data.objects if o != obj and getattr(o, "bdi", None) is not None
@@ -191,21 +197,23 @@ def write(obj, state, values, result):
     """Write `result` into obj's live key (created if missing); a character's world result into
     each of its objects' live keys, in the object's own coordinates."""
     objs = _objects(obj, state)
-    if state.members:
+    if state.members:  # every object's coordinates before any is written
         offsets = state.inp.offsets
-        for o, a, b in zip(objs, offsets[:-1], offsets[1:]):
-            write_key(o, state.inp.names[0], character.to_local(o, result[a:b]))
+        local = [character.to_local(o, result[a:b]) for o, a, b in zip(objs, offsets[:-1], offsets[1:])]
     else:
-        write_key(obj, state.inp.names[0], result)
+        local = [result]
+    for o, co in zip(objs, local):
+        write_key(o, state.inp.names[0], co)
     state.values = values
 
 
-def write_key(obj, source, co):
-    """Write co into obj's live key (created if missing), relative to the key `source`."""
+def write_key(obj, source, co, name=LIVE_KEY):
+    """Write co into obj's key `name` (default: the live key; created if missing, value 1),
+    relative to the key `source`."""
     key = obj.data.shape_keys
-    kb = key.key_blocks.get(LIVE_KEY)
+    kb = key.key_blocks.get(name)
     if kb is None:
-        kb = obj.shape_key_add(name=LIVE_KEY, from_mix=False)
+        kb = obj.shape_key_add(name=name, from_mix=False)
     if kb.relative_key.name != source:
         kb.relative_key = key.key_blocks[source]
     if kb.value != 1.0:
@@ -215,16 +223,32 @@ def write_key(obj, source, co):
 
 
 def turn_off(obj, exc):
-    message = "bdinterp: live mode turned off for %s: %s" % (obj.name, exc)
-    obj.bdi.live_error = message
+    """Live mode off for obj after exc, said once (console and panel)."""
+    message = "bdinterp: live mode turned off for %s: %s" % (obj.name, _said(exc))
+    _failed.add(obj.name)
     _states.pop(obj.name, None)
-    obj.bdi.live = False  # on_toggle does nothing when switching off
     print(message)
+    try:
+        obj.bdi.live_error = message
+        obj.bdi.live = False  # on_toggle does nothing when switching off
+    except Exception:  # noqa: BLE001 -- no writes here: _failed keeps the handlers off it
+        pass
+
+
+def _said(exc):
+    return str(exc) if isinstance(exc, (ValueError, RuntimeError)) else "%s: %s" % (type(exc).__name__, exc)
 
 
 def _safe_update(obj, depsgraph=None, force=False):
+    _guarded(obj, lambda: update(obj, depsgraph, force))
+
+
+def _guarded(obj, work):
+    """work() for obj's live mode unless it failed before; any error turns it off, once."""
+    if obj.name in _failed:
+        return
     try:
-        update(obj, depsgraph, force)
+        work()
     except Exception as exc:  # noqa: BLE001 -- any failure must switch live mode off, once
         turn_off(obj, exc)
 
@@ -233,6 +257,7 @@ def on_toggle(obj):
     if _suspended:
         return
     if obj.bdi.live:
+        _failed.discard(obj.name)
         obj.bdi.live_error = ""
         _from_selection(obj)
         _safe_update(obj, force=True)
@@ -254,18 +279,24 @@ def on_property_change(obj):
 
 
 @contextmanager
-def suspended():
-    """Settings written inside do not recompute one by one (api.set_live writes several)."""
-    _suspended.append(True)
+def suspend(flags):
+    """Appends to the list `flags` while inside: a handler that sees it non-empty waits."""
+    flags.append(True)
     try:
         yield
     finally:
-        _suspended.pop()
+        flags.pop()
+
+
+def suspended():
+    """Settings written inside do not recompute one by one (api.set_live writes several)."""
+    return suspend(_suspended)
 
 
 def switch_on(obj, state, values, result):
     """Live mode on with a prepared State and its first result (see api.set_live)."""
     _states[obj.name] = state
+    _failed.discard(obj.name)
     with suspended():
         obj.bdi.live, obj.bdi.live_error = True, ""
     write(obj, state, values, result)
@@ -285,27 +316,28 @@ def _edited_keys(depsgraph):
             if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
 
 
+def _on_update(obj, edited, depsgraph):
+    state = _states.get(obj.name)
+    if state is not None and _keys_edited(obj, state, edited):
+        state.dirty = True
+    update(obj, depsgraph)
+
+
 @persistent
 def on_frame_change(scene, depsgraph=None):
     edited = _edited_keys(depsgraph) if depsgraph is not None else set()
-    for obj in _live_objects(scene):
-        state = _states.get(obj.name)
-        if state is not None and _keys_edited(obj, state, edited):
-            state.dirty = True  # writes made in this handler are not reported: this one is not ours
-        _safe_update(obj, depsgraph)
+    for obj in _live_objects(scene):  # writes made in this handler are not reported: an edit is not ours
+        _guarded(obj, lambda obj=obj: _on_update(obj, edited, depsgraph))
 
 
 @persistent
 def on_depsgraph_update(scene, depsgraph):
+    # Our own write of the live key is reported here too, indistinguishable from an edit made by a
+    # script before this evaluation: re-check (the input keys' foreach_get, ~0.7 ms per key at 20k
+    # vertices) rather than trust a flag.
     edited = _edited_keys(depsgraph)
     for obj in _live_objects(scene):
-        state = _states.get(obj.name)
-        if state is not None and _keys_edited(obj, state, edited):
-            # Our own write of the live key is reported here too, indistinguishable from an edit
-            # made by a script before this evaluation: re-check (the input keys' foreach_get,
-            # ~0.7 ms per key at 20k vertices) rather than trust a flag.
-            state.dirty = True
-        _safe_update(obj, depsgraph)
+        _guarded(obj, lambda obj=obj: _on_update(obj, edited, depsgraph))
 
 
 @persistent
@@ -317,6 +349,7 @@ def on_undo(*_args):
 @persistent
 def on_load(*_args):
     _states.clear()  # object names may now mean other objects
+    _failed.clear()
     for scene in bpy.data.scenes:
         for obj in _live_objects(scene):
             print("bdinterp: %s in scene %s %s" % (obj.name, scene.name, LIVE_WARNING))
@@ -328,8 +361,9 @@ HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
             (bpy.app.handlers.load_post, on_load))
 
 
-def register():
-    for handlers, fn in HANDLERS:
+def add_handlers(pairs):
+    """Append each (handler list, function) of pairs, replacing stale copies of the function."""
+    for handlers, fn in pairs:
         # Drop stale copies left by an earlier load of this module (add-on reload).
         for h in [h for h in handlers if getattr(h, "__name__", "") == fn.__name__
                   and getattr(h, "__module__", "") == fn.__module__]:
@@ -337,8 +371,17 @@ def register():
         handlers.append(fn)
 
 
-def unregister():
-    for handlers, fn in HANDLERS:
+def remove_handlers(pairs):
+    for handlers, fn in pairs:
         if fn in handlers:
             handlers.remove(fn)
+
+
+def register():
+    add_handlers(HANDLERS)
+
+
+def unregister():
+    remove_handlers(HANDLERS)
     _states.clear()
+    _failed.clear()
