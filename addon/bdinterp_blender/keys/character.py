@@ -48,12 +48,13 @@ KEYS_OF_FIRST = ("obj", "key", "source", "others", "names")
 class CharacterInputs(solve.Inputs):
     """The Inputs of several objects as one mesh in world space: shapes (k, n, 3) concatenated in
     the order of `parts` (each object's own validated Inputs), faces renumbered; obj is the first
-    object (the active one, whose slider plays the bake)."""
+    object (the active one, whose slider plays the bake); others: the keys after the source, as
+    solve.Inputs takes them (default: settings.target), which every object must have."""
 
-    def __init__(self, objs, settings):
+    def __init__(self, objs, settings, others=None):
         import numpy as np
         parts = settings.but(anchor="AUTO", anchor_path=None, joints="off")
-        self.parts = [solve.Inputs(obj, parts, layered=False) for obj in objs]
+        self.parts = [solve.Inputs(obj, parts, others, layered=False) for obj in objs]
         for name in KEYS_OF_FIRST:  # the first object's keys name the character's (its slider)
             setattr(self, name, getattr(self.parts[0], name))
         self.obj_name, self.raw = "character of %d objects" % len(objs), None  # raw: in parts

@@ -89,7 +89,7 @@ def bake_grid(obj, name, n=2, samples=2):
         kb_name = name + GRID_BAKE_SEP + "_".join(str(i) for i in index)
         kb = obj.shape_key_add(name=kb_name, from_mix=False)
         kb.relative_key = key.key_blocks[rest]
-        mesh_io.write_co(kb, bake.shapes[index])
+        mesh_io.write_co(kb, state.members[0].local(bake.shapes[index])[0][1])  # obj's part
         _drive(obj, kb, bake, index, paths)
         written.append(kb_name)
     pose = key.key_blocks.get(POSE_KEY)

@@ -2,10 +2,13 @@
 changes (set, keyframed, driven: frame change, depsgraph update, render; both told by
 changes.py) and after undo.
 
-Per owner object (the one whose Object.bdi_grids holds the groups) a State caches each member's
-PoseBlender (every group combined, one precomputed Interpolator per object) and the raw key data
-it was built from; a frame costs the weights, one blend per object and the write into the key
-'bdi.pose' (relative to the reference key, value 1). An error is recorded once in
+Per owner object (the one whose Object.bdi_grids holds the groups) a State caches a PoseBlender
+(every group combined, one precomputed Interpolator) per member and the raw key data it was built
+from. The owner and the objects that are members of every one of its groups share the grid: they
+are solved as one character in world space (keys.character.CharacterInputs, as a bake of several
+objects is), so their pieces are joined across objects; an object in only some of the groups is
+solved on its own. A frame costs the weights, one blend per member and the write into each
+object's key 'bdi.pose' (relative to the reference key, value 1), in its own coordinates. An error is recorded once in
 Object.bdi_grid_error and printed; the grid then waits for its definition or its keys to change.
 """
 
@@ -13,6 +16,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from .. import changes
+from ..keys import character as characters
 from ..keys import live as live_mode
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
@@ -25,7 +29,14 @@ def definition(obj):
     return tuple((g.name, tuple((p.name, p.values, p.wrap, p.period) for p in g.params),
                   tuple((n.index, n.key) for n in g.nodes),
                   tuple(m.obj.name for m in g.members if m.obj is not None))
-                 for g in obj.bdi_grids) + tuple((o.name, len(o.data.vertices)) for o in members(obj))
+                 for g in obj.bdi_grids) + tuple((o.name, len(o.data.vertices)) for o in members(obj)) \
+        + _placement(obj)
+
+
+def _placement(obj):
+    """The world matrices of a shared grid's objects (solved in world space: a move rebuilds)."""
+    shared = solved_together(obj)
+    return tuple(tuple(map(tuple, o.matrix_world)) for o in shared) if len(shared) > 1 else ()
 
 
 def core_grid(group):
@@ -49,30 +60,54 @@ def members(obj):
     return out
 
 
-class Member:
-    """One object's cached blender: its name, the raw keys it was read from, the PoseBlender."""
+def solved_together(obj):
+    """obj, then the other objects that are members of every one of its groups: one character."""
+    names = [g.name for g in obj.bdi_grids]
+    return [o for o, groups in members(obj).items() if sorted(groups) == sorted(names)]
 
-    def __init__(self, obj, grids):
+
+class Member:
+    """The cached blender of one object, or of several solved as one character (objs[0] first):
+    their names, the raw keys they were read from (per object), the PoseBlender."""
+
+    def __init__(self, objs, grids):
         self.groups = [g.name for g in grids]
-        key = mesh_io.key_of(obj)
-        rest = key.reference_key.name
-        names = [k for g in grids for k in g.keys() if k != rest]
-        inp = solve.Inputs(obj, BakeSettings(), list(dict.fromkeys(names)))
+        rest = mesh_io.key_of(objs[0]).reference_key.name
+        names = list(dict.fromkeys(k for g in grids for k in g.keys() if k != rest))
+        if len(objs) > 1:
+            inp = characters.CharacterInputs(objs, BakeSettings(), names)
+            parts, self.offsets = inp.parts, inp.offsets
+        else:
+            inp = solve.Inputs(objs[0], BakeSettings(), names)
+            parts, self.offsets = [inp], None
         try:
             self.blender = solve.core().pose_grid.PoseBlender(
                 dict(zip(inp.names, inp.shapes)), inp.faces, grids, rest, anchor=inp.anchor,
                 joints=inp.joints, layers=inp.layers)
         except ValueError as exc:
             raise inp.explain(exc) from exc
-        self.name, self.rest, self.names, self.raw = obj.name, rest, inp.names, inp.raw
+        self.objs, self.rest, self.names = [o.name for o in objs], rest, inp.names
+        self.name, self.raw = self.objs[0], [p.raw for p in parts]
         self.report = ""
 
-    def unchanged(self, obj):
+    def unchanged(self):
         import numpy as np
-        key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
-        blocks = [key.key_blocks.get(n) if key else None for n in self.names]
-        return all(kb is not None and np.array_equal(mesh_io.read_raw(kb), raw)
-                   for kb, raw in zip(blocks, self.raw))
+        for name, raws in zip(self.objs, self.raw):
+            obj = bpy.data.objects.get(name)
+            key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
+            blocks = [key.key_blocks.get(n) if key else None for n in self.names]
+            if not all(kb is not None and np.array_equal(mesh_io.read_raw(kb), raw)
+                       for kb, raw in zip(blocks, raws)):
+                return False
+        return True
+
+    def local(self, shape):
+        """[(object name, its part of a blended shape in its own coordinates)]; every object's
+        matrix is read before anything is written."""
+        if self.offsets is None:
+            return [(self.name, shape)]
+        return [(n, characters.to_local(bpy.data.objects[n], shape[a:b]))
+                for n, a, b in zip(self.objs, self.offsets[:-1], self.offsets[1:])]
 
 
 class State:
@@ -85,8 +120,10 @@ class State:
         self.pending = set()  # Keys we wrote that the next depsgraph update will report
         try:
             grids = {g.name: core_grid(g) for g in obj.bdi_grids}
-            self.members = [Member(o, [grids[n] for n in names])
-                            for o, names in members(obj).items()]
+            together = solved_together(obj)
+            self.members = [Member(together, [grids[g.name] for g in obj.bdi_grids])] + [
+                Member([o], [grids[n] for n in names])
+                for o, names in members(obj).items() if o not in together]
         except (BakeError, ValueError) as exc:
             self.error = "%s: %s" % (obj.name, exc) if obj.name not in str(exc) else str(exc)
 
@@ -106,7 +143,7 @@ def state_of(obj):
     state = _states.get(obj.name)
     if state is not None and state.dirty and not state.error:
         state.dirty = False
-        if not all(m.unchanged(bpy.data.objects.get(m.name)) for m in state.members):
+        if not all(m.unchanged() for m in state.members):
             state = None
     if state is None or state.definition != definition(obj) or (state.error and state.dirty):
         state = _states[obj.name] = State(obj)
@@ -137,18 +174,19 @@ def update(obj, depsgraph=None, force=False, reported=True):
     if not state.error:
         values = points(obj.evaluated_get(depsgraph) if depsgraph is not None else obj)
         keys = [o.data.shape_keys.key_blocks.get(POSE_KEY)
-                for o in (bpy.data.objects.get(m.name) for m in state.members)]
+                for o in (bpy.data.objects.get(n) for m in state.members for n in m.objs)]
         if keys[0] is not None and keys[0].mute:
             return False  # Bake Grid muted it: the baked keys show the grid (unmute to go live)
         if values == state.values and None not in keys and not force:
             return False
         try:
-            for (name, blend), m in zip(compute(state, values), state.members):
-                target = bpy.data.objects[name]
-                live_mode.write_key(target, m.rest, blend.shape, POSE_KEY)
+            for (_, blend), m in zip(compute(state, values), state.members):
+                for name, co in m.local(blend.shape):
+                    target = bpy.data.objects[name]
+                    live_mode.write_key(target, m.rest, co, POSE_KEY)
+                    if reported:
+                        state.pending.add(target.data.shape_keys.name)
                 m.report = blend.report()
-                if reported:
-                    state.pending.add(target.data.shape_keys.name)
             state.values = values
         except (BakeError, RuntimeError) as exc:
             state.error = str(exc)
@@ -170,7 +208,7 @@ def reports(obj):
         return {}
     if state.error:
         return {obj.name: state.error}
-    return {m.name: m.report for m in state.members}
+    return {n: m.report for m in state.members for n in m.objs}
 
 
 def remove(obj):
@@ -207,8 +245,8 @@ def _mark_edited(edited):
     36 at 5k vertices). So an input key edited by a script together with a parameter change, in
     one update, is noticed at the next key edit or undo. edited: names of the Keys updated."""
     for state in _states.values():
-        keys = {getattr(bpy.data.objects[m.name].data.shape_keys, "name", None)
-                for m in state.members if bpy.data.objects.get(m.name) is not None}
+        keys = {getattr(bpy.data.objects[n].data.shape_keys, "name", None)
+                for m in state.members for n in m.objs if bpy.data.objects.get(n) is not None}
         if (keys & edited) - state.pending:
             state.dirty = True
         state.pending.clear()
