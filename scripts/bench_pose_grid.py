@@ -1,11 +1,12 @@
 """Live update rate of a pose grid in Blender (docs/BENCHMARKS.md): at each size, a grid of
 side x side vertices gets a 3 x 3 pose grid (bend -90/0/90 degrees x thickness 0.8/1/1.25, nine
-poses) and one parameter is scrubbed through new values, each set as a script sets it (the
+poses) and one parameter is scrubbed through new values (--path line), or both together along a
+diagonal of the grid (--path diagonal: thick = bend / 100), each set as a script sets it (the
 property, then one view_layer.update()). Times the whole update and the core's share (the
 PoseBlender's blend), with the add-on of this checkout.
 
     PYTHONPATH=python blender --background --factory-startup --python scripts/bench_pose_grid.py \
-        [-- --sides 71,317 --updates 40]
+        [-- --sides 71,317 --updates 40 --path line]
 
 Prints a Markdown table: vertices, updates a second, ms per update, of which core ms and the rest
 (Blender's depsgraph and shape key evaluation, the key write, the handler).
@@ -20,6 +21,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "addon"))
 import bdinterp_blender as addon  # noqa: E402 -- this checkout's add-on, not an installed one
+from bdinterp_blender.params import live as grid_live  # noqa: E402
 
 
 def posed(co, bend, thick):
@@ -67,11 +69,24 @@ def timed_core():
     return spent
 
 
+def scrub(params, v, diagonal):
+    """Set bend to v as a script does, then update once; on the diagonal thick to v / 100 too, both
+    written before the one update (as a driver or keyframes of both would: one blend)."""
+    if diagonal:
+        with grid_live.suspended():
+            params["bend"].amount = float(v)
+            params["thick"].amount = float(v) / 100
+    else:
+        params["bend"].amount = float(v)
+    bpy.context.view_layer.update()
+
+
 def main():
     argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
     opts = dict(zip(argv[::2], argv[1::2]))
     sides = [int(s) for s in opts.get("--sides", "71,317").split(",")]
     updates = int(opts.get("--updates", "40"))
+    diagonal = opts.get("--path", "line") == "diagonal"
     addon.register()
     spent = timed_core()
     print("| vertices | updates/s | ms per update | core ms | Blender + handler ms |")
@@ -81,15 +96,13 @@ def main():
         bpy.ops.object.delete()
         obj, keys = grid_object(side)
         addon.pose_grid(obj, {"bend": [-90, 0, 90], "thick": [-1, 0, 1]}, keys, name="g")
-        item = obj.bdi_grids["g"].params["bend"]
+        params = obj.bdi_grids["g"].params
         values = np.linspace(-80, 80, updates) + 0.37  # new values, none at a node
-        item.amount = values[0] - 1  # the first solve's warm-up is not timed
-        bpy.context.view_layer.update()
+        scrub(params, values[0] - 1, diagonal)  # the first solve's warm-up is not timed
         spent[0] = 0.0
         t0 = time.perf_counter()
         for v in values:
-            item.amount = float(v)
-            bpy.context.view_layer.update()
+            scrub(params, v, diagonal)
         total = (time.perf_counter() - t0) / updates
         core = spent[0] / updates
         print("| %d | %.1f | %.1f | %.1f | %.1f |" % (len(obj.data.vertices), 1 / total,

@@ -85,6 +85,50 @@ TEST(WarmStart, PredictorIsExactOnPolynomialsUpToDegreeFive) {
   }
 }
 
+// Bilinear weights of the corners of a cell at (x, y) in [0, 1]^2, rest (corner (0, 0)) first.
+Eigen::Vector4d bilinear(double x, double y) { return {(1 - x) * (1 - y), x * (1 - y), (1 - x) * y, x * y}; }
+
+// A point moving over a 2D grid: its weights lie on no line, so the slider's extrapolation has no
+// second frame; along the path of the frames before it the guess is exact where u is affine in
+// the weights and, for a smooth u, far closer than the nearest solution (independent reference:
+// u as a function of the weights, evaluated directly).
+TEST(WarmStart, PredictorFollowsAPathOffAnyLine) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> d(-1, 1);
+  Eigen::MatrixXd A(30, 4);
+  for (Eigen::Index i = 0; i < A.size(); ++i) A.data()[i] = d(rng);
+  auto smooth = [&](const Eigen::Vector4d& w) { return Eigen::VectorXd((A * w).array().sin()); };
+  for (bool affine : {true, false}) {
+    auto f = [&](const Eigen::Vector4d& w) { return affine ? Eigen::VectorXd(A * w) : smooth(w); };
+    detail::History h;
+    for (int j = 0; j < 6; ++j) {  // a diagonal drag: x = 0.10, 0.14, ..., y = 0.6 x + 0.1
+      const double x = 0.1 + 0.04 * j;
+      h.add(bilinear(x, 0.6 * x + 0.1), f(bilinear(x, 0.6 * x + 0.1)));
+    }
+    const Eigen::Vector4d w = bilinear(0.34, 0.304);
+    Eigen::VectorXd u;
+    h.predict(w, u);
+    const double err = (u - f(w)).cwiseAbs().maxCoeff();
+    const double nearest = (h.solved.front().second - f(w)).cwiseAbs().maxCoeff();
+    if (affine) {
+      EXPECT_LT(err, 1e-12);
+    } else {
+      EXPECT_LT(err, 1e-3 * nearest) << "guess " << err << ", nearest " << nearest;
+    }
+  }
+}
+
+// Frames that jump about (no path): the guess is no further off than the nearest solution.
+TEST(WarmStart, PredictorOffAPathFallsBackToTheNearest) {
+  detail::History h;
+  const double xs[] = {0.9, 0.1, 0.5, 0.2};
+  for (double x : xs) h.add(bilinear(x, 1 - x * x), Eigen::VectorXd::Constant(3, x));
+  Eigen::VectorXd u;
+  h.predict(bilinear(0.52, 0.7), u);
+  EXPECT_TRUE(u.allFinite());
+  EXPECT_LE((u.array() - 0.52).abs().maxCoeff(), 0.5);
+}
+
 TEST(WarmStart, InputsAndEmptyHistoryStartFromZero) {
   detail::History h;
   Eigen::VectorXd u = Eigen::VectorXd::Ones(4);
