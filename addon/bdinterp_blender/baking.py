@@ -108,7 +108,8 @@ class BakeJob:
             note += ", so the slider drives the copy %r instead" % end_key
         return Plan(obj=obj, owner=owner, source=src.name, target=tgt.name, names=names,
                     frames=frames, end_key=end_key, slider=slider, note=note,
-                    signature=playback.signature(tgt))
+                    signature=playback.signature(tgt), members=[obj.name],
+                    inputs=playback.inputs_signature(obj, src.name, tgt.name))
 
     def result(self, inp, frames, note):
         """The BakeResult of frames (keys and slider filled in by write())."""
@@ -127,7 +128,8 @@ class BakeJob:
             return keys, None
         return keys, playback.install(obj, plan.source, plan.target, keys, self.positions,
                                       end=written[-1] if plan.end_key else None,
-                                      signature_=plan.signature, slider=plan.slider, owner=plan.owner)
+                                      signature_=plan.signature, slider=plan.slider, owner=plan.owner,
+                                      inputs=plan.inputs, members=plan.members)
 
 
 class Plan:

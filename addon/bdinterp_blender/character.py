@@ -134,6 +134,8 @@ class CharacterBakeJob(BakeJob):
         inp = self.inp
         frames = list(self.job.frames())
         plans = [self.plan(part.obj, part, local, inp.obj) for part, local in inp.local(frames)]
+        for plan in plans:  # each member's record names them all: one's edit makes all stale
+            plan.members = [o.name for o in self._objs]
         ends = [inp.shapes[1]] if any(p.end_key for p in plans) else []
         result = self.result(inp, frames + ends, "; ".join(
             "%s: %s" % (p.obj.name, p.note) for p in plans if p.note))

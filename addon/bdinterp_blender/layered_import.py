@@ -3,8 +3,11 @@ export (painting_files) imported as cut-out pieces: each layer becomes a mesh fr
 (bdinterp.mesh_from_image; a sprite sheet's frame for several tiles), textured with its image
 (alpha blended, times the layer's opacity), placed where the painting has it in Blender's front
 (XZ) plane: the canvas's x to +x, its y (downwards) to -z, one pixel = `scale` units, the canvas's
-top-left corner at the origin, a layer drawn higher nearer the front view (smaller y). Everything
-is read and meshed before any object is created."""
+top-left corner at the world origin, a layer drawn higher nearer the front view (smaller y).
+Each layer object's origin lies at its own depth, in the centre of its piece: renderers sort
+alpha-blended objects by their origins, so the painting's order holds in every view and render
+(also once a bake's drivers change the order in which objects are evaluated), and a piece turns
+about its centre. Everything is read and meshed before any object is created."""
 import os
 import tempfile
 
@@ -104,10 +107,13 @@ def _plans(path, scale, params):
     return plans
 
 
-def _object(name, parts):
-    """One mesh object of parts [(material, co, faces, uvs)], a material slot each."""
+def _object(name, parts, centred):
+    """One mesh object of parts [(material, co, faces, uvs)] (world coordinates), a material slot
+    each; its origin at the world origin, or (centred) in the middle of its bounding box."""
     import numpy as np
     co = np.concatenate([p[1] for p in parts])
+    origin = (co.min(0) + co.max(0)) / 2 if centred else np.zeros(3)
+    co = co - origin
     offsets = np.cumsum([0] + [len(p[1]) for p in parts])
     faces = np.concatenate([p[2] + o for p, o in zip(parts, offsets)])
     uvs = np.concatenate([p[3] for p in parts])
@@ -120,6 +126,7 @@ def _object(name, parts):
     me.polygons.foreach_set("material_index", np.repeat(np.arange(len(parts)), [len(p[2]) for p in parts]))
     me.update()
     obj = bpy.data.objects.new(name, me)
+    obj.location = origin.tolist()
     bpy.context.scene.collection.objects.link(obj)
     return obj
 
@@ -131,9 +138,9 @@ def import_layered(path, *, one_object=False, scale=0.01, **params):
     parts = [(_material(name, image, opacity), co, faces, uvs)
              for name, image, opacity, co, faces, uvs in plans]
     if one_object:
-        objs = [_object(os.path.splitext(os.path.basename(os.fspath(path)))[0], parts)]
+        objs = [_object(os.path.splitext(os.path.basename(os.fspath(path)))[0], parts, False)]
     else:
-        objs = [_object(plan[0], [part]) for plan, part in zip(plans, parts)]
+        objs = [_object(plan[0], [part], True) for plan, part in zip(plans, parts)]
     for o in bpy.context.view_layer.objects:
         o.select_set(False)
     for o in objs:

@@ -52,14 +52,32 @@ def ora_layers(path):
                     elif node.tag == "layer":
                         name, src = node.get("name", node.get("src")), node.get("src")
                         if src not in names:
-                            raise ValueError("%r: layer %r's image %r is missing"
-                                             % (os.fspath(path), name, src))
+                            raise ValueError("%r: the image %r of layer %r is missing from the "
+                                             "file" % (os.fspath(path), src, name))
                         found.append(Layer(name, x, y, alpha, (1, 1, 0), z.read(src), None))
             top = root.find("stack")
             walk(top if top is not None else [], 0, 0, 1.0)
     except (OSError, zipfile.BadZipFile, KeyError, ET.ParseError) as e:
-        raise ValueError("%r is not an OpenRaster file (%s)" % (os.fspath(path), e)) from None
+        raise ValueError(_unreadable(os.fspath(path), e)) from None
     return found[::-1]
+
+
+def _unreadable(path, error):
+    """Why the OpenRaster file at path could not be read, in plain words."""
+    if isinstance(error, FileNotFoundError):
+        return "%r not found: check the file's name and folder" % path
+    if isinstance(error, zipfile.BadZipFile):
+        try:
+            with open(path, "rb") as f:
+                zipped = f.read(4) == b"PK\x03\x04"
+        except OSError:
+            zipped = False
+        if zipped:  # a zip's start without its end: cut short while it was saved or copied
+            return ("%r is damaged (it ends too early: %s): save or copy it again from the "
+                    "painting program" % (path, error))
+    if isinstance(error, KeyError):
+        return "%r is not an OpenRaster file: it has no stack.xml" % path
+    return "%r is not an OpenRaster file (%s)" % (path, error)
 
 
 def _number(value):

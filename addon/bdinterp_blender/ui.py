@@ -119,8 +119,13 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
                          % together, icon='INFO', width=wrap_width(context))
         row = layout.row(align=True)
         row.scale_y = 1.4
-        row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
-        row.operator("bdinterp.clear", text="", icon='TRASH')
+        from .operators import progress_text
+        running = progress_text()
+        if running:  # the bake runs on a thread: say so where the button was
+            row.label(text=running, icon='TIME')
+        else:
+            row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
+            row.operator("bdinterp.clear", text="", icon='TRASH')
         draw_export(layout, obj)
         draw_bake(layout, context, obj)
 
@@ -142,8 +147,8 @@ def character_size(context, obj):
 
 
 def draw_bake(layout, context, obj):
-    """The playback slider of the current pair's bake (found also after a rename), its status,
-    and the result box."""
+    """The playback slider of the current pair's bake (found also after a rename), its status
+    (stale when any object baked with this one changed since: Bake Again), and the result box."""
     width = wrap_width(context)
     found = _bake_of(obj)
     owner = found.record.get("owner", obj.name) if found is not None else obj.name
@@ -155,15 +160,30 @@ def draw_bake(layout, context, obj):
         if found.status == "renamed":
             draw_message(layout, "Bake of the renamed target (slider %r); bake again to rename "
                          "its keys" % found.slider, icon='INFO', width=width)
-        elif found.status == "stale":
-            draw_message(layout, "Stale: %r was edited after this bake; bake again"
-                         % obj.bdi.target, icon='ERROR', width=width)
-    draw_result(layout, obj.bdi.result, width)
+    if found is not None and found.status != "renamed":
+        draw_stale(layout, obj, found, owner, width)
+    missing = [] if found is None else [name for name in found.keys if name not in
+                                        obj.data.shape_keys.key_blocks]
+    draw_result(layout, obj.bdi.result, width, missing)
 
 
-def draw_result(layout, text, width):
-    """The result box of the last bake: keys written, max K against the inputs', folded
-    polygons, time, and any note."""
+def draw_stale(layout, obj, found, owner, width):
+    """'Stale' naming the objects whose keys changed since the bake, with Bake Again."""
+    from .playback import stale_members
+    stale = stale_members(obj, found)
+    if not stale:
+        return
+    names = ", ".join(repr(name) for name in stale[:3]) + (" and %d more" % (len(stale) - 3)
+                                                            if len(stale) > 3 else "")
+    draw_message(layout, "Stale: the keys of %s changed after this bake" % names, icon='ERROR',
+                 width=width)
+    op = layout.operator("bdinterp.rebake", icon='FILE_REFRESH')
+    op.owner, op.slider = owner, found.slider
+
+
+def draw_result(layout, text, width, missing=()):
+    """The result box of the last bake: keys written (and those deleted since), max K against
+    the inputs', folded polygons, time, and any note."""
     try:
         r = json.loads(text) if text else None
     except ValueError:
@@ -175,6 +195,10 @@ def draw_result(layout, text, width):
     col.label(text="Last bake", icon='INFO')
     col.label(text="%s -> %s" % (r["source"], r["target"]))
     col.label(text="Keys written: %d" % r["keys"])
+    if missing:
+        draw_message(col, "%d of them deleted since (%s): bake again" % (
+            len(missing), ", ".join(missing[:2]) + (", ..." if len(missing) > 2 else "")),
+            width=width - 2)
     ok = r["max_distortion"] <= r["input_distortion"] * (1 + 1e-6)
     col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
               icon='CHECKMARK' if ok else 'ERROR')
@@ -292,7 +316,7 @@ class BDINTERP_PT_view(_Panel, bpy.types.Panel):
 PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP_PT_poses,
           BDINTERP_PT_live, BDINTERP_PT_distortion, BDINTERP_PT_view)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
-ICONS = ('ERROR', 'INFO', 'BLANK1', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
+ICONS = ('ERROR', 'INFO', 'BLANK1', 'TIME', 'FILE_REFRESH', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
          'MOD_WARP', 'CHECKMARK', 'EXPORT', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER',
          'GREASEPENCIL')  # every icon used above
 

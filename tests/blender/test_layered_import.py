@@ -55,7 +55,14 @@ def ora(tmp_path):
 def world_co(obj):
     co = np.empty(len(obj.data.vertices) * 3)
     obj.data.vertices.foreach_get("co", co)
-    return co.reshape(-1, 3)
+    m = np.array(obj.matrix_world)
+    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+
+
+def local_co(obj, world):
+    """World coordinates world (n, 3) in obj's local coordinates."""
+    m = np.array(obj.matrix_world)
+    return np.linalg.solve(m[:3, :3], (world - m[:3, 3]).T).T
 
 
 def assert_placed(obj, x, y, rect):
@@ -102,7 +109,7 @@ def test_broken_file_imports_nothing(addon, ora, tmp_path):
             if item != "data/arm.png":
                 dst.writestr(item, src.read(item))
     before = (len(bpy.data.objects), len(bpy.data.meshes), len(bpy.data.images), len(bpy.data.materials))
-    with pytest.raises(ValueError, match="layer 'arm'.*data/arm.png.*missing"):
+    with pytest.raises(ValueError, match="the image .data/arm.png. of layer .arm. is missing from the file"):
         bdinterp_blender.import_layered(str(broken))
     with pytest.raises(ValueError, match="not an OpenRaster file"):
         bdinterp_blender.import_layered(str(tmp_path / "head.png"))
@@ -244,14 +251,15 @@ def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
         obj.shape_key_add(name="Basis")
         co = world_co(obj)
         target = turned(co, centre, RAISE) if obj.name == "arm" else co
-        obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set("co", target.ravel())
+        obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set(
+            "co", local_co(obj, target).ravel())
     result = bdinterp_blender.bake(objs, target="Raise", count=1)
     assert (result.objects, result.keys) == (3, ["Raise.bdi.050"])
     assert result.joints == 1  # the shoulder's pin (the head and the torso are both still)
     everything = np.concatenate([world_co(o) for o in objs])
     size = np.ptp(everything[:, [0, 2]], axis=0).max()
     for obj in objs:
-        half = read_key(obj, "Raise.bdi.050")
+        half = read_key(obj, "Raise.bdi.050") + np.array(obj.location)
         expected = turned(world_co(obj), centre, RAISE / 2) if obj.name == "arm" else world_co(obj)
         tolerance = 0.005 if obj.name == "arm" else 1e-6
         assert np.abs(half - expected).max() <= tolerance * size, obj.name
@@ -272,3 +280,14 @@ def test_the_example_character_imports_in_draw_order(addon):
         assert x <= co[:, 0].min() and co[:, 0].max() <= x + w, obj.name
         assert -y - h <= co[:, 2].min() and co[:, 2].max() <= -y, obj.name
     assert_drawn_in_order(objs)
+
+
+def test_each_layer_object_has_its_origin_at_its_depth_and_centre(addon):
+    import bdinterp_blender
+    objs = bdinterp_blender.import_layered(os.path.join(ROOT, "examples", "sprites", "character.ora"),
+                                           scale=SCALE)
+    for obj in objs:  # renderers sort blended objects by origin: the painting's order, no ties
+        co = world_co(obj)
+        assert np.abs(np.array(obj.location) - (co.min(0) + co.max(0)) / 2).max() < 1e-6, obj.name
+    depth = [o.location.y for o in objs]
+    assert all(a - b > 0.5 * bdinterp_blender.layered_import.DEPTH for a, b in zip(depth, depth[1:]))
