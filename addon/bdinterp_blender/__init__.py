@@ -12,10 +12,10 @@ onion -> ui -> this file (registration).
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "overlay", "painting_files", "timing", "mesh_io",
+    for _name in ("core", "names", "actions", "overlay", "painting_files", "pivots", "timing", "mesh_io",
                   "rig", "settings", "solve", "playback", "distortion", "sprite_mesh", "baking",
-                  "export", "layered_import", "character", "live", "api", "motion_trails",
-                  "drawing_bind", "properties", "operators", "onion", "ui"):
+                  "export", "layered_import", "character", "posing", "live", "api", "motion_trails",
+                  "drawing_bind", "properties", "operators", "pose_operators", "onion", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
@@ -42,6 +42,7 @@ alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
+from .api import add_pose, torn_joints  # noqa: E402
 from .sprite_mesh import mesh_from_image  # noqa: E402
 from .layered_import import import_layered  # noqa: E402
 from .motion_trails import trails  # noqa: E402
@@ -50,7 +51,7 @@ from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing"]
+           "bind_drawing", "unbind_drawing", "add_pose", "torn_joints"]
 
 _modules = []
 
@@ -66,7 +67,9 @@ def register():
         _modules = [ui.degraded]
     else:
         from . import properties, onion, drawing_bind, operators, live as live_mod, sprite_mesh, layered_import
-        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import]
+        from . import pose_operators
+        _modules = [properties, onion, drawing_bind, operators, pose_operators, ui, live_mod, sprite_mesh,
+                    layered_import]
     for mod in _modules:
         mod.register()
 

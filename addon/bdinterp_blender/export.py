@@ -81,10 +81,32 @@ def _sample(scene, plans, frames):
     return values
 
 
+def action_name(obj):
+    """The name of obj's export action: its bake's slider (several bakes: their sliders)."""
+    return " + ".join(sorted(playback.records(obj)))
+
+
+def _new_action(anim, name, piece):
+    """anim's export action named `name`: where actions have slots (Blender 4.4+) the one that
+    the character's other pieces use (a slot each), so that an exporter sees one action; before,
+    one action per piece, named after the slider and the piece."""
+    import bpy
+    if actions.slotted():
+        shared = bpy.data.actions.get(name)
+        if shared is None or not shared.get(EXPORT_PROP):
+            shared = bpy.data.actions.new(name)
+            shared[EXPORT_PROP] = True
+        anim.action = shared
+    else:
+        anim.action = bpy.data.actions.new("%s|%s" % (name, piece))
+
+
 def _write(obj, keys, frames, values):
     key = obj.data.shape_keys
     anim = key.animation_data
     created = anim.action is None
+    if created:
+        _new_action(anim, action_name(obj), obj.name)
     written = []
     for kb, driver in keys:
         fc = actions.new_fcurve(anim, kb.path_from_id("value"))

@@ -107,6 +107,17 @@ def outline(faces):
     return unique[counts == 1]
 
 
+def moving_faces(path):
+    """The faces of path's mesh that the motion moves (a vertex of theirs is elsewhere in the
+    target than in the source): the ghosts tint those only, not the pieces that stand still."""
+    import numpy as np
+    source, target = path.world(path.inp.shapes[:2])
+    size = max(np.ptp(source, axis=0).max(), 1e-12)
+    moves = np.linalg.norm(target - source, axis=1) > 1e-6 * size
+    faces = np.asarray(path.inp.faces)
+    return faces[moves[faces].any(axis=1)]
+
+
 def selected_vertices(objs):
     """Indices (across the objects, one after the other) of their selected vertices."""
     import numpy as np
@@ -130,7 +141,9 @@ def build(objs, view, frame=None, previous=None):
         return out
     solve_needed = view.trails or view.ghost_source != 'BAKED'
     path = motion_trails.Path(objs, with_solver=solve_needed)
-    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
+    faces = moving_faces(path)
+    out = Ghosts(faces=faces, edges=outline(faces) if len(faces) else np.empty((0, 2), int),
+                 path=path)
     baked, names = path.baked()
     if path.found is not None:
         out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
@@ -333,7 +346,7 @@ def unregister():
 def draw_settings(layout, context):
     """The panel's Onion Skins & Trails section (ui.BDINTERP_PT_view)."""
     view = context.scene.bdi_view
-    row = layout.row(align=True)
+    row = layout.column(align=True)  # one above the other: each label whole in a narrow sidebar
     row.prop(view, "ghosts", toggle=True, icon='ONIONSKIN_ON' if view.ghosts else 'ONIONSKIN_OFF')
     row.prop(view, "trails", toggle=True, icon='IPO_BEZIER')
     if view.ghosts:

@@ -9,7 +9,7 @@ import threading
 import bpy
 from bpy.props import EnumProperty, IntProperty
 
-from . import api
+from . import api, posing
 from .character import selected_meshes
 from .settings import CURVE_NODE, from_props
 
@@ -102,6 +102,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
     (Esc cancels; nothing is written until the last in-between is computed)"""
     bl_idname = "bdinterp.bake"
     bl_label = "Bake In-betweens"
+    confirmed: bpy.props.BoolProperty(name="Torn joints confirmed", options={'HIDDEN', 'SKIP_SAVE'})
 
     def job(self, context):
         """The BakeJob of the active object's settings and the selected objects."""
@@ -124,9 +125,16 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         cancels; the keys are written on the main thread at the end."""
         try:
             self._job = self.job(context)
+            torn = [] if self.confirmed else torn_of(self._job)
             self._steps = StepThread(self._job)
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
+            return {'CANCELLED'}
+        if torn:  # asked first; the dialog's OK bakes (confirmed)
+            bpy.ops.bdinterp.confirm_torn('INVOKE_DEFAULT', report=posing.describe(torn),
+                                          rebake=isinstance(self, BDINTERP_OT_rebake),
+                                          owner=getattr(self, "owner", ""),
+                                          slider=getattr(self, "slider", ""))
             return {'CANCELLED'}
         wm = context.window_manager
         wm.progress_begin(0, self._job.total)
@@ -164,6 +172,14 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
         self._stop(context)
         self.report({'INFO'}, message)
         return {'FINISHED'}
+
+
+def torn_of(job):
+    """The joints the pose of a character's BakeJob tears apart (posing.torn_joints)."""
+    objs = getattr(job, "_objs", None)
+    if not objs:
+        return []
+    return posing.torn_joints(objs, job.inp.others[0].name, job.inp.source.name)
 
 
 class BDINTERP_OT_rebake(BDINTERP_OT_bake):
@@ -225,7 +241,7 @@ class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
 class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
     """Add the active shape key to the poses to blend"""
     bl_idname = "bdinterp.pose_add"
-    bl_label = "Add Pose"
+    bl_label = "Add Pose to Blend"
 
     def run(self, context, obj):
         kb = obj.active_shape_key

@@ -139,9 +139,13 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
         return context.window_manager.invoke_props_dialog(self)
 
     def draw(self, context):
+        obj = context.active_object
         for name in ("preset", "threshold", "spacing", "detail", "padding", "min_angle"):
             self.layout.prop(self, name)
-        obj = context.active_object
+            if name == "spacing" and self.spacing == 0:  # say what 0 means, not only "0.00"
+                spacing = params_of(self, obj)["spacing"] if obj is not None else None
+                self.layout.label(text="0: from the preset" + (" (%.0f px)" % spacing if spacing
+                                                                else ""), icon='INFO')
         try:  # the triangle count before applying (the active object's)
             count = len(plan(obj, **params_of(self, obj))[1])
             self.layout.label(text="%s: %d triangles" % (obj.name, count))

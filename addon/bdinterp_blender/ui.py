@@ -65,18 +65,23 @@ class BDINTERP_PT_main(_Panel, bpy.types.Panel):
             draw_message(layout, CORE_ERROR, width=wrap_width(context))
             return
         if obj is None or obj.type != 'MESH':
-            layout.label(text="Select a planar mesh with shape keys", icon='INFO')
+            draw_message(layout, "Select a flat mesh with shape keys", icon='INFO',
+                         width=wrap_width(context))
             return
         key = obj.data.shape_keys
         if key is None or len(key.key_blocks) < 2:
-            layout.label(text="Add at least two shape keys", icon='INFO')
+            draw_message(layout, "Add a pose: a key on every selected piece", icon='INFO',
+                         width=wrap_width(context))
+            layout.operator("bdinterp.add_pose", icon='ADD')
             return
         props = obj.bdi
         col = layout.column(align=True)
         col.prop_search(props, "source", key, "key_blocks", text="Source")
         if not props.source:
             col.label(text="Empty: %s (reference)" % key.reference_key.name, icon='BLANK1')
-        col.prop_search(props, "target", key, "key_blocks", text="Target")
+        row = col.row(align=True)
+        row.prop_search(props, "target", key, "key_blocks", text="Target")
+        row.operator("bdinterp.add_pose", text="", icon='ADD')
         if props.live:
             draw_message(layout, "Live: %s %s" % (obj.name, LIVE_WARNING), icon='INFO',
                          width=wrap_width(context))

@@ -11,7 +11,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import ROOT, read_key
+from conftest import ROOT, read_key, triangles
 
 SCALE = 0.01
 
@@ -238,7 +238,8 @@ def turned(co, centre, angle):
     return out
 
 
-def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
+def raised_arm(tmp_path):
+    """CHARACTER imported, with the key 'Raise' on every piece: the arm raised about the shoulder."""
     import bdinterp_blender
     nodes = []
     for z, (name, (x, y, w, h)) in enumerate(CHARACTER.items()):
@@ -253,6 +254,24 @@ def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
         target = turned(co, centre, RAISE) if obj.name == "arm" else co
         obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set(
             "co", local_co(obj, target).ravel())
+    return objs, centre
+
+
+def test_onion_skins_tint_only_the_pieces_that_move(addon, tmp_path):
+    from bdinterp_blender import motion_trails, onion
+    objs, _ = raised_arm(tmp_path)
+    path = motion_trails.Path(objs, target="Raise", with_solver=False)
+    faces = onion.moving_faces(path)
+    first = [o.name for o in path.objs].index("arm")
+    sizes = np.cumsum([0] + [len(o.data.vertices) for o in path.objs])
+    arm = (sizes[first] <= faces) & (faces < sizes[first + 1])
+    assert len(faces) == len(triangles(objs[[o.name for o in objs].index("arm")])), len(faces)
+    assert arm.all()  # the torso and the head stand still: no ghost of theirs
+
+
+def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
+    import bdinterp_blender
+    objs, centre = raised_arm(tmp_path)
     result = bdinterp_blender.bake(objs, target="Raise", count=1)
     assert (result.objects, result.keys) == (3, ["Raise.bdi.050"])
     assert result.joints == 1  # the shoulder's pin (the head and the torso are both still)
@@ -282,12 +301,28 @@ def test_the_example_character_imports_in_draw_order(addon):
     assert_drawn_in_order(objs)
 
 
-def test_each_layer_object_has_its_origin_at_its_depth_and_centre(addon):
+# The example's pieces and the piece each hangs from (the torso, the largest, hangs from none).
+PARENTS = {"head": "torso", "upper_arm_l": "torso", "upper_arm_r": "torso", "thigh_l": "torso",
+           "thigh_r": "torso", "forearm_l": "upper_arm_l", "forearm_r": "upper_arm_r",
+           "shin_l": "thigh_l", "shin_r": "thigh_r"}
+
+
+def test_each_layer_object_has_its_origin_at_its_depth_and_joint(addon):
     import bdinterp_blender
     objs = bdinterp_blender.import_layered(os.path.join(ROOT, "examples", "sprites", "character.ora"),
                                            scale=SCALE)
-    for obj in objs:  # renderers sort blended objects by origin: the painting's order, no ties
-        co = world_co(obj)
-        assert np.abs(np.array(obj.location) - (co.min(0) + co.max(0)) / 2).max() < 1e-6, obj.name
-    depth = [o.location.y for o in objs]
+    depth = [o.location.y for o in objs]  # renderers sort blended objects by origin: no ties
     assert all(a - b > 0.5 * bdinterp_blender.layered_import.DEPTH for a, b in zip(depth, depth[1:]))
+    by_name = {o.name: o for o in objs}
+    for obj in objs:
+        assert np.abs(world_co(obj)[:, 1] - obj.location.y).max() < 1e-9, obj.name
+        co = world_co(obj)
+        if obj.name not in PARENTS:  # the root turns about its middle
+            middle = (co.min(0) + co.max(0)) / 2
+            assert np.abs(np.array(obj.location) - middle)[[0, 2]].max() <= SCALE, obj.name
+            continue
+        for piece in (obj, by_name[PARENTS[obj.name]]):  # the joint lies where both pieces are
+            box = world_co(piece)
+            x, z = obj.location.x, obj.location.z
+            assert box[:, 0].min() < x < box[:, 0].max() and box[:, 2].min() < z < box[:, 2].max(), \
+                (obj.name, piece.name)

@@ -6,9 +6,9 @@ import os
 
 from conftest import ROOT
 
-LAYERS = [["core", "names", "actions", "overlay", "painting_files"], ["timing", "mesh_io"], ["rig"], ["settings"], ["solve"],
-          ["playback", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"],
-          ["live"], ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "onion"],
+LAYERS = [["core", "names", "actions", "overlay", "painting_files", "pivots"], ["timing", "mesh_io"], ["rig"], ["settings"], ["solve"],
+          ["playback", "distortion", "sprite_mesh"], ["baking", "export", "layered_import"], ["character"], ["posing"],
+          ["live"], ["api", "motion_trails", "drawing_bind"], ["properties", "operators", "pose_operators", "onion"],
           ["ui"], ["__init__"]]
 RANK = {m: i for i, layer in enumerate(LAYERS) for m in layer}
 
