@@ -3,7 +3,8 @@ import, rendered with EEVEE (needs a display: run under Xvfb) before a bake and 
 render compared with the painting's own mergedimage.png.
 
     xvfb-run ... blender --background --factory-startup --python render_layers.py -- OUT_DIR
-Prints 'JSON:{...}': per render the fraction of pixels off (see differs) and its largest error.
+Prints 'JSON:{...}': per render the fraction of pixels off (see differs) and its largest error,
+and the joints the pose tears (none: the arm turns about the shoulder as one).
 
 The render shows each layer's colour as it is (an emission shader of its image over transparency,
 alpha blended like the imported material, view transform Standard, one sample, no pixel filter,
@@ -100,12 +101,11 @@ def rotate(co, centre, degrees):
     return out
 
 
-def pose(objs):
-    """Basis and the key POSE on every piece; the right arm's pieces turned about the shoulder."""
+def pose(bdi, objs):
+    """Add Pose (the key POSE on every piece); the right arm's pieces turned about the shoulder."""
+    assert bdi.add_pose(objs) == POSE
     for obj in objs:
-        if obj.data.shape_keys is None:
-            obj.shape_key_add(name="Basis", from_mix=False)
-        kb = obj.data.shape_keys.key_blocks.get(POSE) or obj.shape_key_add(name=POSE, from_mix=False)
+        kb = obj.data.shape_keys.key_blocks[POSE]
         if obj.name in TURNS:
             m = np.array(obj.matrix_world)
             co = np.array([v.co for v in obj.data.vertices], dtype=np.float64)
@@ -129,8 +129,9 @@ def main(out):
     painting = pixels(os.path.join(out, "mergedimage.png"))
     camera(scene, painting.shape[1], painting.shape[0])
     result["before"] = render(scene, out, "before", painting)
-    pose(objs)
+    pose(bdi, objs)
     torso = bpy.data.objects["torso"]
+    result["torn"] = bdi.torn_joints(objs, POSE)
     baked = bdi.bake([torso] + [o for o in objs if o != torso], POSE, count=3)
     result["slider"], result["slider_owner"] = baked.slider, torso.name
     for value in (0.0, 1.0):
