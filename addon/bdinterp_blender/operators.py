@@ -97,17 +97,10 @@ def _show_progress(context, done, total):
                 area.tag_redraw()
 
 
-class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
-    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
-    (Esc cancels; nothing is written until the last in-between is computed)"""
-    bl_idname = "bdinterp.bake"
-    bl_label = "Bake In-betweens"
+class _Bake(_ObjectOperator):
+    """A bake of self.job(context): all at once from scripts, or from the UI on a thread with
+    progress and Esc, after asking when the pose tears joints apart (unless confirmed)."""
     confirmed: bpy.props.BoolProperty(name="Torn joints confirmed", options={'HIDDEN', 'SKIP_SAVE'})
-
-    def job(self, context):
-        """The BakeJob of the active object's settings and the selected objects."""
-        objs = selected_meshes(context)
-        return api.job_of(objs, settings_for(context.object.bdi, objs))
 
     def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
@@ -132,7 +125,7 @@ class BDINTERP_OT_bake(_ObjectOperator, bpy.types.Operator):
             return {'CANCELLED'}
         if torn:  # asked first; the dialog's OK bakes (confirmed)
             bpy.ops.bdinterp.confirm_torn('INVOKE_DEFAULT', report=posing.describe(torn),
-                                          rebake=isinstance(self, BDINTERP_OT_rebake),
+                                          rebake=self.bl_idname == "bdinterp.rebake",
                                           owner=getattr(self, "owner", ""),
                                           slider=getattr(self, "slider", ""))
             return {'CANCELLED'}
@@ -182,7 +175,19 @@ def torn_of(job):
     return posing.torn_joints(objs, job.inp.others[0].name, job.inp.source.name)
 
 
-class BDINTERP_OT_rebake(BDINTERP_OT_bake):
+class BDINTERP_OT_bake(_Bake, bpy.types.Operator):
+    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
+    (Esc cancels; nothing is written until the last in-between is computed)"""
+    bl_idname = "bdinterp.bake"
+    bl_label = "Bake In-betweens"
+
+    def job(self, context):
+        """The BakeJob of the active object's settings and the selected objects."""
+        objs = selected_meshes(context)
+        return api.job_of(objs, settings_for(context.object.bdi, objs))
+
+
+class BDINTERP_OT_rebake(_Bake, bpy.types.Operator):
     """Bake this character (or object) again as it was baked: the same objects, source, target
     and slider, from the settings of the object that holds the slider"""
     bl_idname = "bdinterp.rebake"

@@ -126,3 +126,38 @@ def test_a_members_source_or_topology_edit_makes_it_stale_too(pieces):
                                                                  for v in p.vertices]), 1))
     shin.data.update()
     assert stale(torso) == ["shin_l"]
+
+
+def panel_text(obj):
+    """The sidebar's labels (wrapped lines joined) and operators with obj active."""
+    import test_ui
+    bpy.context.view_layer.objects.active = obj
+    log = test_ui.draw_all(bpy.context)
+    return " ".join(e[1] for e in log if e[0] == "label"), [e[1] for e in log if e[0] == "operator"]
+
+
+def test_the_panel_says_stale_on_the_owner_and_a_member_with_bake_again(pieces):
+    torso, _ = baked(pieces)
+    for obj in (torso, bpy.data.objects["head"]):
+        text, ops = panel_text(obj)
+        assert "Stale" not in text and "bdinterp.rebake" not in ops
+    move(bpy.data.objects["forearm_r"], "Pose", turn(45, SHOULDER))
+    for obj in (torso, bpy.data.objects["head"]):
+        text, ops = panel_text(obj)
+        assert "Stale: the keys of 'forearm_r' changed after this bake" in text, text
+        assert "bdinterp.rebake" in ops
+
+
+def test_the_panel_shows_progress_while_a_bake_runs_and_a_deleted_key(pieces):
+    from bdinterp_blender import operators
+    torso, _ = baked(pieces)
+    operators.PROGRESS["bake"] = (3, 10)
+    try:
+        text, ops = panel_text(torso)
+    finally:
+        operators.PROGRESS["bake"] = None
+    assert "Baking 3 of 10 (Esc to cancel)" in text and "bdinterp.bake" not in ops
+    torso.shape_key_remove(torso.data.shape_keys.key_blocks["Pose.bdi.050"])
+    text, ops = panel_text(torso)
+    assert "Keys written: 1 1 of them deleted since (Pose.bdi.050): bake again" in text, text
+    assert "bdinterp.bake" in ops
