@@ -122,13 +122,13 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         if together > 1:
             draw_message(layout, "Bakes %d selected objects as one character (slider here)"
                          % together, icon='INFO', width=wrap_width(context))
-        row = layout.row(align=True)
-        row.scale_y = 1.4
         from .operators import progress_text
         running = progress_text()
         if running:  # the bake runs on a thread: say so where the button was
-            row.label(text=running, icon='TIME')
+            draw_message(layout, running, icon='TIME', width=wrap_width(context))
         else:
+            row = layout.row(align=True)
+            row.scale_y = 1.4
             row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
             row.operator("bdinterp.clear", text="", icon='TRASH')
         draw_export(layout, obj)

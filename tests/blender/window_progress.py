@@ -1,0 +1,98 @@
+"""Child script for test_window.py: the example painting's ten pieces, posed with Add Pose, baked
+from the sidebar's Bake button as the UI runs it (INVOKE: modal, on a thread), in a real window;
+records what the panel says at each redraw while the bake runs and saves a screenshot of the
+window mid-bake (the sidebar open on the bdinterp tab, the status bar).
+
+    xvfb-run ... blender --factory-startup --enable-event-simulate --python window_progress.py \
+        -- OUT.png
+Prints 'JSON:{...}' and quits."""
+
+import os
+import sys
+
+import bpy
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+COUNT = 12  # in-betweens: several chunks, so that the bake is seen under way
+
+result = {"seen": [], "draws": 0}
+
+
+def character(bdi):
+    """The painting imported, posed (the right arm raised), the torso active with the settings."""
+    from render_layers import PAINTING, SCALE, pose
+    objs = bdi.import_layered(PAINTING, scale=SCALE)
+    pose(bdi, objs)
+    torso = bpy.data.objects["torso"]
+    bpy.context.view_layer.objects.active = torso
+    torso.bdi.count = COUNT
+    return objs
+
+
+def count_draws():
+    """result['draws']: how often the add-on's main panel drew (so its tab is known to be open)."""
+    from bdinterp_blender import ui
+    draw = ui.BDINTERP_PT_main.draw
+
+    def counted(self, context):
+        result["draws"] += 1
+        draw(self, context)
+    ui.BDINTERP_PT_main.draw = counted
+
+
+def open_tab(window, area):
+    """Click down the sidebar's tab strip until the add-on's panel draws (a generator of redraws)."""
+    region = next(r for r in area.regions if r.type == 'UI')
+    top = region.y + region.height
+    for dy in range(20, min(region.height, 600), 16):
+        if result["draws"]:
+            return
+        x, y = region.x + region.width - 9, top - dy
+        window.event_simulate('MOUSEMOVE', 'NOTHING', x=x, y=y)
+        window.event_simulate('LEFTMOUSE', 'PRESS', x=x, y=y)
+        window.event_simulate('LEFTMOUSE', 'RELEASE', x=x, y=y)
+        yield
+
+
+def steps(out):
+    sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
+    import addon_loader
+    bdi = addon_loader.enable()
+    from bdinterp_blender import operators
+    bpy.context.preferences.view.show_splash = False
+    objs = character(bdi)
+    count_draws()
+    window = bpy.context.window_manager.windows[0]
+    area = max((a for a in window.screen.areas if a.type == 'VIEW_3D'), key=lambda a: a.width)
+    area.spaces.active.show_region_ui = True
+    main = next(r for r in area.regions if r.type == 'WINDOW')
+    with bpy.context.temp_override(window=window, area=area, region=main):
+        bpy.ops.view3d.view_selected()
+    yield
+    yield from open_tab(window, area)
+    with bpy.context.temp_override(window=window, area=area, region=main):
+        result["invoke"] = sorted(bpy.ops.bdinterp.bake('INVOKE_DEFAULT'))
+    for _ in range(600):
+        yield
+        text = operators.progress_text()
+        if text and text not in result["seen"]:
+            result["seen"].append(text)
+            if "shot" not in result and not text.startswith("Baking 0 "):
+                with bpy.context.temp_override(window=window):
+                    bpy.ops.screen.screenshot(filepath=out)
+                result["shot"] = out
+        if not text and result["seen"]:
+            break
+    result["keys"] = len(objs[0].data.shape_keys.key_blocks)
+    result["after"] = operators.progress_text()
+
+
+def main():
+    sys.path.insert(0, HERE)
+    sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
+    from window_steps import run_steps
+    run_steps(steps(os.path.abspath(sys.argv[sys.argv.index("--") + 1])), result, 0.05)
+
+
+main()
