@@ -196,6 +196,10 @@ def test_bake_for_export_names_the_actions_after_the_slider(baked):
     else:  # one action per piece, the slider's name then the piece's
         assert names == ["%s|%s" % (slider, o.name) for o in objs]
         assert glb_animations(glb) == sorted(names)
+        bpy.ops.export_scene.gltf(filepath=glb, export_format='GLB', export_animations=True,
+                                  export_nla_strips=False,  # docs/KEYFRAMES.md: one clip
+                                  export_nla_strips_merged_animation_name=slider)
+    assert glb_animations(glb) == [slider]
 
 
 def test_remove_export_bake_restores_the_drivers(baked):
