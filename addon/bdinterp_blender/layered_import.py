@@ -7,7 +7,8 @@ top-left corner at the world origin, a layer drawn higher nearer the front view 
 Each layer object's origin lies at its own depth: renderers sort alpha-blended objects by their
 origins, so the painting's order holds in every view and render (also once a bake's drivers change
 the order in which objects are evaluated); in the picture's plane it lies where the piece turns
-(pivots.pivots: its joint with the piece it hangs from, else its middle). Everything is read and meshed before any object is created."""
+(pivots.pivots: its joint with the piece it hangs from, else its middle). Everything is read and
+meshed before any object is created."""
 import os
 import tempfile
 

@@ -7,7 +7,8 @@ MIN_OVERLAP = 4  # pixels two layers must share to count as joined
 
 
 def _overlap(a, b):
-    """(pixels, (x, y) their middle) that the masks a and b, each (x, y, mask (h, w) bool), share."""
+    """(pixels, (x, y) their middle) that the masks a and b, each (x, y, mask (h, w) bool),
+    share."""
     import numpy as np
     (xa, ya, ma), (xb, yb, mb) = a, b
     x0, y0 = max(xa, xb), max(ya, yb)

@@ -50,15 +50,15 @@ class BDINTERP_OT_add_pose(bpy.types.Operator):
         return any(o.type == 'MESH' for o in context.selected_objects)
 
     def execute(self, context):
-        objs = selected_meshes(context) if context.object in context.selected_objects else \
-            [o for o in context.selected_objects if o.type == 'MESH']
+        # the active object (the panel's) and the selected meshes
+        objs = [o for o in selected_meshes(context) if o is not None and o.type == 'MESH']
         try:
-            name = api.add_pose([o for o in objs if o is not None and o.type == 'MESH'],
-                                self.name or None)
+            name = api.add_pose(objs, self.name or None)
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
-        self.report({'INFO'}, "Added the key %r to %d pieces: edit them, then bake" % (name, len(objs)))
+        self.report({'INFO'}, "Added the key %r to %d pieces: edit them, then bake"
+                    % (name, len(objs)))
         return {'FINISHED'}
 
 

@@ -54,8 +54,9 @@ def _inside(points, co, faces):
     det = np.where(np.abs(det) < 1e-30, 1e-30, det)
     for start in range(0, len(points), 256):  # blocks: memory ~ 256 x triangles
         p = points[start:start + 256, None, :]
-        u = ((p[..., 0] - a[:, 0]) * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * (p[..., 1] - a[:, 1])) / det
-        v = ((b[:, 0] - a[:, 0]) * (p[..., 1] - a[:, 1]) - (p[..., 0] - a[:, 0]) * (b[:, 1] - a[:, 1])) / det
+        dx, dy = p[..., 0] - a[:, 0], p[..., 1] - a[:, 1]
+        u = (dx * (c[:, 1] - a[:, 1]) - (c[:, 0] - a[:, 0]) * dy) / det
+        v = ((b[:, 0] - a[:, 0]) * dy - dx * (b[:, 1] - a[:, 1])) / det
         out[start:start + 256] = ((u >= 0) & (v >= 0) & (u + v <= 1)).any(axis=1)
     return out
 

@@ -41,20 +41,6 @@ def count_draws():
     ui.BDINTERP_PT_main.draw = counted
 
 
-def open_tab(window, area):
-    """Click down the sidebar's tab strip until the add-on's panel draws (a generator of redraws)."""
-    region = next(r for r in area.regions if r.type == 'UI')
-    top = region.y + region.height
-    for dy in range(20, min(region.height, 600), 16):
-        if result["draws"]:
-            return
-        x, y = region.x + region.width - 9, top - dy
-        window.event_simulate('MOUSEMOVE', 'NOTHING', x=x, y=y)
-        window.event_simulate('LEFTMOUSE', 'PRESS', x=x, y=y)
-        window.event_simulate('LEFTMOUSE', 'RELEASE', x=x, y=y)
-        yield
-
-
 def steps(out):
     sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
     import addon_loader
@@ -70,7 +56,9 @@ def steps(out):
     with bpy.context.temp_override(window=window, area=area, region=main):
         bpy.ops.view3d.view_selected()
     yield
-    yield from open_tab(window, area)
+    from window_steps import click_tabs
+    yield from click_tabs(window, next(r for r in area.regions if r.type == 'UI'),
+                          lambda: result["draws"])
     with bpy.context.temp_override(window=window, area=area, region=main):
         result["invoke"] = sorted(bpy.ops.bdinterp.bake('INVOKE_DEFAULT'))
     for _ in range(600):
