@@ -120,7 +120,7 @@ def main():
     states = ["Basis"] + result.keys + ["Pose"]
     knots = [0.0] + list(result.positions) + [1.0]
     setup_render([np.array([tuple(d.co) for d in keys[n].data]) for n in states], args.resolution)
-    from bdinterp_blender import distortion
+    from bdinterp_blender.view import distortion
     tiles = []
     for i, (name, s) in enumerate(zip(states, knots)):
         # each state through the playback slider, coloured by its conformal distortion

@@ -30,7 +30,7 @@ def stub_draws():
     import bpy
 
     def patch():
-        from bdinterp_blender import overlay
+        from bdinterp_blender.view import overlay
         init = overlay.Plan.__init__
 
         def no_gpu(self, *args):

@@ -2,22 +2,29 @@
 
 Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, target="Key 1")``.
 
-Modules import one way, lower layers only (tests/blender/test_structure.py): core (loader), names
--> timing, mesh_io -> rig (joints from bones) -> settings (BakeSettings) -> solve (shapes ->
-frames, no writes) -> playback, distortion, sprite_mesh -> baking, export, layered_import (each
-module of these two layers writes one kind of thing) -> character (several objects baked as one)
--> live -> api (the scripting facade), motion_trails, drawing_bind -> properties, operators,
-onion -> ui -> this file (registration).
+Subpackages by the animator's task, each importing only from the layers before it
+(tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
+timing -> shapes (keys read, settings, solve: no writes) -> files (paintings in, Mesh from Image)
+and bake (slider, bake jobs, export, characters, live mode) -> view (what the viewport draws) ->
+api (the scripting facade) -> ui (properties, operators, panels) -> this file (registration).
 """
+
+# The modules in import order (lowest first): the reload idiom below and the layering test use it.
+MODULES = ("core", "names", "actions", "timing",
+           "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
+           "files.painting_files", "files.sprite_mesh", "files.layered_import",
+           "bake.playback", "bake.baking", "bake.export", "bake.character", "bake.posing", "bake.live",
+           "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.drawing_bind",
+           "api", "ui.properties", "ui.operators", "ui.pose_operators",
+           "ui.panels")
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
-    for _name in ("core", "names", "actions", "overlay", "painting_files", "pivots", "timing", "mesh_io",
-                  "rig", "settings", "solve", "playback", "distortion", "sprite_mesh", "baking",
-                  "export", "layered_import", "character", "posing", "live", "api", "motion_trails",
-                  "drawing_bind", "properties", "operators", "pose_operators", "onion", "ui"):
-        if _name in locals():
-            importlib.reload(locals()[_name])
+    import sys as _sys
+    for _name in MODULES:
+        _module = _sys.modules.get(__name__ + "." + _name)
+        if _module is not None:
+            importlib.reload(_module)
 
 bl_info = {
     "name": "bdinterp: Bounded-Distortion In-betweens",
@@ -37,16 +44,16 @@ from .core import alias_package, build_info, core_status, load_core  # noqa: E40
 
 # Scripting name: as an extension (Blender 4.2+) this package is imported as
 # bl_ext.<repo>.bdinterp_blender, but scripts should be able to write `import bdinterp_blender`
-# (and `import bdinterp_blender.ui`: the same module objects, see core.alias_package).
+# (and `import bdinterp_blender.ui.panels`: the same module objects, see core.alias_package).
 alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
 from .api import add_pose, torn_joints  # noqa: E402
-from .sprite_mesh import mesh_from_image  # noqa: E402
-from .layered_import import import_layered  # noqa: E402
-from .motion_trails import trails  # noqa: E402
-from .drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
+from .files.sprite_mesh import mesh_from_image  # noqa: E402
+from .files.layered_import import import_layered  # noqa: E402
+from .view.motion_trails import trails  # noqa: E402
+from .view.drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
@@ -57,7 +64,7 @@ _modules = []
 
 
 def register():
-    from . import ui
+    from .ui import panels as ui
     global _modules
     ok, message = core_status()
     if not ok:
@@ -66,10 +73,12 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from . import properties, onion, drawing_bind, operators, live as live_mod, sprite_mesh, layered_import
-        from . import pose_operators
-        _modules = [properties, onion, drawing_bind, operators, pose_operators, ui, live_mod, sprite_mesh,
-                    layered_import]
+        from .ui import properties, operators, pose_operators
+        from .view import onion, drawing_bind
+        from .bake import live as live_mod
+        from .files import sprite_mesh, layered_import
+        _modules = [properties, onion, drawing_bind, operators, pose_operators, ui, live_mod,
+                    sprite_mesh, layered_import]
     for mod in _modules:
         mod.register()
 

@@ -15,26 +15,37 @@ RuntimeError from the solver) leaves the object unchanged.
 
 import time
 
-from . import baking, character, distortion, export, live, mesh_io, playback, posing, solve
-from .baking import BakeJob, BakeResult, run, write_key
-from .mesh_io import BakeError
+from .bake import baking, character, export, live, playback, posing
+from .view import distortion
+from .shapes import mesh_io, solve
+from .bake.baking import BakeJob, BakeResult, run, write_key
+from .shapes.mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
-from .settings import BakeSettings, anchor_choice
-from .solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
+from .shapes.settings import BakeSettings, anchor_choice
+from .shapes.solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- part of the API
 
 __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live",
            "show_distortion", "hide_distortion", "bake_for_export", "remove_export_bake",
-           "error_bound_factors", "job_of", "add_pose", "torn_joints", "BakeJob", "BakeSettings", "BakeResult", "BakeError",
-           "LIVE_KEY", "DEFAULT_TOLERANCE"]
+           "error_bound_factors", "job_of", "settings_of", "add_pose", "torn_joints", "BakeJob", "BakeSettings", "BakeResult",
+           "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
-def bake_job(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
-             anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
-             joints="auto", threads=0):
-    """The validated BakeJob of a bake (parameters as in bake()), not yet computed: one object's,
+def settings_of(target, options):
+    """BakeSettings(target=target, **options): the keyword options of bake() and its siblings are
+    BakeSettings' fields (one definition); an unknown one is a BakeError that lists them."""
+    fields = BakeSettings.__dataclass_fields__
+    unknown = sorted(set(options) - set(fields) | ({"target"} & set(options)))
+    if unknown:
+        raise BakeError("unknown option%s %s; the options are %s" % (
+            "s" * (len(unknown) > 1), ", ".join(map(repr, unknown)),
+            ", ".join(f for f in fields if f != "target")))
+    return BakeSettings(target=target, **options)
+
+
+def bake_job(obj, target, **options):
+    """The validated BakeJob of a bake (options as in bake()), not yet computed: one object's,
     or, for a list of objects of which several have the target key, the character's."""
-    return job_of(obj, BakeSettings(target, source, count, factors, easing, anchor, anchor_path,
-                                    method, planarity, drivers, joints, threads=threads))
+    return job_of(obj, settings_of(target, options))
 
 
 def job_of(obj, settings):
@@ -47,43 +58,41 @@ def job_of(obj, settings):
     return BakeJob(obj, settings)
 
 
-def compute_frames(obj, target, source=None, count=3, factors=None, easing="LINEAR",
-                   anchor="AUTO", anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE,
-                   progress=None, joints="auto", threads=0):
+def compute_frames(obj, target, progress=None, **options):
     """Compute in-betweens without writing anything.
 
     Returns (inputs, positions, factors, frames) with frames a (k, n, 3) float64 array in the
     mesh's local coordinates (a list of objects: world coordinates, the objects' vertices one
-    after the other, inputs.offsets where each begins).  Parameters as in bake().
+    after the other, inputs.offsets where each begins).  Options as in bake().
     """
-    job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   planarity, True, joints, threads)
+    job = bake_job(obj, target, **options)
     run(job, progress)
     return job.inp, job.positions, job.factors, job.job.frames()
 
 
-def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", anchor="AUTO",
-         anchor_path=None, method="bdi", planarity=DEFAULT_TOLERANCE, drivers=True,
-         progress=None, joints="auto", threads=0):
+def bake(obj, target, progress=None, **options):
     """Bake in-betweens of `source` -> `target` into new shape keys; return a BakeResult.
 
     obj: mesh object with shape keys, or a list of them: those that have the target key are
     solved as one cut-out character in world space (pieces of different objects that overlap
     are joined), each written in its own local coordinates, all driven by the slider of the
-    first of them; a failure writes into none of them.  target/source: key names (source
-    default: the reference key).  count: number of evenly timed in-betweens, or factors:
-    explicit list in (0, 1).
+    first of them; a failure writes into none of them.  target: the target key's name.
+    progress(done, total): called after each chunk of frames; returning False cancels
+    (BakeError, nothing written).  The options are the fields of BakeSettings (an unknown one
+    is refused):
+    source: the source key's name (default: the reference key).  count: number of evenly timed
+    in-betweens (default 3), or factors: explicit list in (0, 1).
     easing: 'LINEAR', 'EASE_IN', 'EASE_OUT', 'EASE_IN_OUT' or a callable u -> t (custom curve).
     anchor: 'AUTO', a vertex index or a vertex group name (a character: of its first object),
     or (object, vertex index) (a character: of any of its objects); anchor_path: a curve object
     the anchor follows.  method: 'bdi' (default), 'arap' or 'linear'.  planarity: how far
-    a vertex may lie off its piece's plane, relative to the mesh size.  progress(done, total):
-    called after each chunk of frames; returning False cancels (BakeError, nothing written).
+    a vertex may lie off its piece's plane, relative to the mesh size.  drivers (default True):
+    a slider drives the keys.
     joints: how pieces (loose parts) are joined (docs/JOINTS.md): 'bones' (each piece hangs from
     the piece of its bone's parent, pinned at the bone's head: an Armature modifier's vertex
     groups or a parent bone), 'pins' (overlapping pieces that turn about a common point in both
-    keys), 'auto' (bones where every piece has one, else pins; also True) or 'off' (each piece on
-    its own rigid path; also False).
+    keys), 'auto' (default: bones where every piece has one, else pins; also True) or 'off' (each
+    piece on its own rigid path; also False).
     threads: the solver's workers, a frame each at a time (0: one per usable core).
 
     Keys are named '<target>.bdi.<percent>' (e.g. 'Arm_up.bdi.050'), hold the in-between shape
@@ -93,22 +102,21 @@ def bake(obj, target, source=None, count=3, factors=None, easing="LINEAR", ancho
     in-betweens -> target, also without the add-on.  The slider drives the target key itself
     only if that has no keyframes, driver or value of its own (else a copy, result.note says so).
     """
-    job = bake_job(obj, target, source, count, factors, easing, anchor, anchor_path, method,
-                   planarity, drivers, joints, threads)
+    job = bake_job(obj, target, **options)
     run(job, progress)
     return job.finish()
 
 
-def blend(obj, weights, source=None, name="Blend.bdi", anchor="AUTO",
-          planarity=DEFAULT_TOLERANCE, joints="auto"):
+def blend(obj, weights, name="Blend.bdi", **options):
     """Bake a pose blend (paper Section 5): one key `name`, relative to the source.
 
     weights: {pose key name: weight}; see pose_weights() for how the source's weight follows.
+    options: source, anchor, planarity and joints as in bake().
     Returns (key name, max distortion of the blend, max distortion of the poses).
     """
     started = time.perf_counter()
     names, ws = pose_weights(weights)
-    settings = BakeSettings(source=source, anchor=anchor, planarity=planarity, joints=joints)
+    settings = settings_of("", options)
     inp = Inputs(obj, settings, names)
     solver = inp.interpolator()
     result = solve.blend_shape(inp, ws, solver)
@@ -282,14 +290,13 @@ def remove_export_bake(objs):
     return sum(export.remove(o) for o in objs)
 
 
-def error_bound_factors(obj, target, error, source=None, anchor="AUTO", anchor_path=None,
-                        planarity=DEFAULT_TOLERANCE, joints="auto"):
+def error_bound_factors(obj, target, error, **options):
     """The in-between factors (sorted, in (0, 1)) of the fewest keys whose linear blend stays
     within `error` x the size of the exact in-between (bdinterp's Interpolator.keyframes) of
     source -> target of obj (or a character: a list of objects); bake(factors=...) bakes them. At
-    least one: the middle, where the blend of source and target alone is within the bound."""
-    return factors_within(obj, BakeSettings(target, source, anchor=anchor, anchor_path=anchor_path,
-                                            planarity=planarity, joints=joints), error)
+    least one: the middle, where the blend of source and target alone is within the bound.
+    options: source, anchor, anchor_path, planarity and joints as in bake()."""
+    return factors_within(obj, settings_of(target, options), error)
 
 
 def factors_within(obj, settings, error):

@@ -22,7 +22,7 @@ import sysconfig
 
 _HERE = os.path.dirname(os.path.abspath(__file__))
 _VENDOR = os.path.join(_HERE, "_vendor")
-_PACKAGE = __name__.rpartition(".")[0]  # 'bdinterp_blender' or 'bl_ext.<repo>.bdinterp_blender'
+PACKAGE = __name__.rpartition(".")[0]  # 'bdinterp_blender' or 'bl_ext.<repo>.bdinterp_blender'
 
 
 def build_info():
@@ -106,7 +106,7 @@ def load_core():
     ok, message = core_status()
     if not ok:
         raise RuntimeError(message)
-    name = _PACKAGE + "._vendor.bdinterp" if os.path.isdir(_VENDOR) else "bdinterp"
+    name = PACKAGE + "._vendor.bdinterp" if os.path.isdir(_VENDOR) else "bdinterp"
     try:
         return importlib.import_module(name)
     except ImportError as exc:
@@ -128,8 +128,8 @@ class _Loaded(importlib.abc.Loader):
 
 class _AliasFinder(importlib.abc.MetaPathFinder):
     """Resolves `alias.sub` to the already-imported `real.sub`, so that `import
-    bdinterp_blender.ui` under an extension gives bl_ext.<repo>.bdinterp_blender.ui itself; without
-    it Python loads the file a second time and the copy's state (e.g. ui.CORE_ERROR) diverges."""
+    bdinterp_blender.ui.panels` under an extension gives bl_ext.<repo>.bdinterp_blender.ui.panels;
+    without it Python loads the file again and the copy's state (e.g. CORE_ERROR) diverges."""
 
     def __init__(self, alias, real):
         self.alias, self.real = alias, real

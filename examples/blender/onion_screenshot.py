@@ -138,7 +138,7 @@ def redraw_seconds(iterations):
 
 def steps(addon, out):
     """Generator driven by a timer: each yield lets Blender draw once."""
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
     objs = scene(addon)
     window, area, region = view3d()
     area.spaces.active.overlay.show_floor = False

@@ -120,7 +120,7 @@ def main():
         print("JSON:" + json.dumps({"calls": {}, "errors": {"enable": traceback.format_exc()}}))
         bpy.ops.wm.quit_blender()
         return
-    from bdinterp_blender import ui
+    from bdinterp_blender.ui import panels as ui
     instrument(ui, "--open-all" in ARGS)
     bpy.context.preferences.view.show_splash = False
     gen = steps(addon)

@@ -65,7 +65,7 @@ def test_bake_found_after_target_renamed(addon):
     obj = bent_strip()
     first = addon.bake(obj, target="Bend", count=3)
     obj.data.shape_keys.key_blocks["Bend"].name = "Arm"
-    from bdinterp_blender import playback
+    from bdinterp_blender.bake import playback
     found = playback.find(obj, "Basis", "Arm")
     assert found is not None and found.status == "renamed" and found.keys == first.keys
     second = addon.bake(obj, target="Arm", count=2)
@@ -80,7 +80,7 @@ def test_bake_found_after_target_renamed(addon):
 def test_bake_reported_stale_after_target_edit(addon):
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=2)
-    from bdinterp_blender import playback
+    from bdinterp_blender.bake import playback
     assert playback.find(obj, "Basis", "Bend").status == ""
     kb = obj.data.shape_keys.key_blocks["Bend"]
     kb.data[0].co.x += 0.05
@@ -91,7 +91,7 @@ def test_a_bake_given_eight_threads_runs_them(addon):
     """Eight workers on this machine of fewer cores: the 8 factors are one frames() call of a
     worker each, and the solver's stats count the threads that ran."""
     from bdinterp_blender.api import bake_job
-    from bdinterp_blender.solve import core, frames_per_call
+    from bdinterp_blender.shapes.solve import core, frames_per_call
     obj = bent_strip()
     factors = [k / 9 for k in range(1, 9)]
     job = bake_job(obj, "Bend", factors=factors, threads=8)
@@ -108,7 +108,7 @@ def test_a_bake_given_eight_threads_runs_them(addon):
 def test_progress_per_chunk_and_cancel_writes_nothing(addon):
     # A small mesh: a frame per worker first, then the most frames a call may take.
     obj = bent_strip()
-    from bdinterp_blender.solve import frames_per_call, workers
+    from bdinterp_blender.shapes.solve import frames_per_call, workers
     first, chunk = workers(), frames_per_call()
     total = first + chunk + 1
     calls = []
@@ -127,7 +127,7 @@ def test_a_step_takes_the_rounds_that_fit_in_its_time(addon, monkeypatch, round_
     """On a clock that a round of frames (one on each of 2 workers) moves by round_seconds, the
     steps after the first take as many rounds as fit in STEP_SECONDS (0.15), at least one, at most
     FRAMES_PER_WORKER (4) frames a worker."""
-    from bdinterp_blender import solve
+    from bdinterp_blender.shapes import solve
     clock = [0.0]
 
     class Slow:
@@ -136,7 +136,7 @@ def test_a_step_takes_the_rounds_that_fit_in_its_time(addon, monkeypatch, round_
             return np.zeros((len(ts), 3, 3))
 
     monkeypatch.setattr(solve.time, "perf_counter", lambda: clock[0])
-    from bdinterp_blender.settings import BakeSettings
+    from bdinterp_blender.shapes.settings import BakeSettings
     job = solve.FrameJob(solve.Inputs(bent_strip(), BakeSettings("Bend")), [0.5] * 20,
                          threads=2)
     job._solver = Slow()
@@ -186,7 +186,7 @@ def test_distortion_colours_relative_to_each_face_of_the_inputs(addon, bd):
     by the mesh's single worst face."""
     obj = bent_strip()
     S = read_key(obj, "Basis")
-    from bdinterp_blender import distortion
+    from bdinterp_blender.view import distortion
     # a result key made by hand: half the faces as in the target, the other half sheared more
     worse = S.copy()
     worse[:, 0] += 0.3 * worse[:, 1] * (worse[:, 0] > 0)

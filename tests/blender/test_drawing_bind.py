@@ -32,7 +32,7 @@ def gp_object(points):
 
 
 def positions(gp_obj):
-    from bdinterp_blender import drawing_bind
+    from bdinterp_blender.view import drawing_bind
     return np.concatenate([drawing_bind.read(d, "position", 3) for d in drawing_bind.drawings(gp_obj)])
 
 
@@ -47,7 +47,7 @@ def expected(gp_obj, objs):
     """Each point as the barycentric image of its stored triangle in the meshes as evaluated, at
     its stored height along the triangle's normal (a stroke drawn in front of its piece stays
     there)."""
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     d = db.drawings(gp_obj)[0]
     tri, bary = db.read(d, db.TRI, 1), db.read(d, db.BARY, 3).astype(float)
     X, tris = shown(objs)
@@ -60,7 +60,7 @@ def expected(gp_obj, objs):
 def pieces_bound(gp_obj, objs):
     """The name of the object whose triangle holds each point, and the smallest barycentric
     coordinate of each (>= 0: inside that triangle)."""
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     d = db.drawings(gp_obj)[0]
     ends = np.cumsum([len(triangles(o)) for o in objs])
     which = np.searchsorted(ends, db.read(d, db.TRI, 1), side="right")
@@ -116,7 +116,7 @@ def test_strokes_on_the_head_and_arm_follow_the_mesh(addon, tmp_path, kind):
             assert np.abs(positions(gp_obj) - drawn).max() < 1e-6 * size
     moved = np.abs(positions(gp_obj) - drawn).max()
     assert moved > 0.05 * size  # the arm raised: its strokes went with it
-    from bdinterp_blender import drawing_bind as db
+    from bdinterp_blender.view import drawing_bind as db
     radius = db.read(db.drawings(gp_obj)[0], "radius", 1)
     assert np.abs(radius - 0.01).max() < 1e-6  # rigid pieces: every triangle keeps its scale
     slider_owner[cb.TARGET + ".bdi"] = 0.0

@@ -53,12 +53,12 @@ def test_core_finds_the_thread_controls_of_its_bundled_libraries(addon):
 
 
 def test_scripting_name_gives_the_same_modules(addon):
-    """`import bdinterp_blender.ui` (the scripting name) must not load a second copy of the module
-    under an extension, whose state would then diverge from the registered one."""
+    """`import bdinterp_blender.ui.panels` (the scripting name) must not load a second copy of the
+    module under an extension, whose state would then diverge from the registered one."""
     import importlib
-    ui = importlib.import_module("bdinterp_blender.ui")
-    assert ui is importlib.import_module(ADDON_MODULE + ".ui")
-    assert ui.__spec__.name == ADDON_MODULE + ".ui"  # the real name, for reload and pickling
+    ui = importlib.import_module("bdinterp_blender.ui.panels")
+    assert ui is importlib.import_module(ADDON_MODULE + ".ui.panels")
+    assert ui.__spec__.name == ADDON_MODULE + ".ui.panels"  # the real name, for reload and pickling
     assert ui.BDINTERP_PT_main is bpy.types.BDINTERP_PT_main
     copies = [n for n, m in sys.modules.items() if getattr(m, "__file__", None) == ui.__file__
               and m is not ui]
@@ -116,7 +116,7 @@ CHILD = """
 import addon_utils, traceback
 bpy.ops.preferences.addon_install(filepath=sys.argv[-1])
 mod = addon_utils.enable("bdinterp_blender", default_set=True, handle_error=lambda e: traceback.print_exc())
-import bdinterp_blender.ui as ui
+import bdinterp_blender.ui.panels as ui
 panel = bpy.types.BDINTERP_PT_main
 print("JSON:" + json.dumps({"enabled": addon_utils.check("bdinterp_blender")[1],
                             "message": ui.CORE_ERROR, "panel": panel.bl_category,

@@ -258,7 +258,7 @@ def raised_arm(tmp_path):
 
 
 def test_onion_skins_tint_only_the_pieces_that_move(addon, tmp_path):
-    from bdinterp_blender import motion_trails, onion
+    from bdinterp_blender.view import motion_trails, onion
     objs, _ = raised_arm(tmp_path)
     path = motion_trails.Path(objs, target="Raise", with_solver=False)
     faces = onion.moving_faces(path)
@@ -312,7 +312,7 @@ def test_each_layer_object_has_its_origin_at_its_depth_and_joint(addon):
     objs = bdinterp_blender.import_layered(os.path.join(ROOT, "examples", "sprites", "character.ora"),
                                            scale=SCALE)
     depth = [o.location.y for o in objs]  # renderers sort blended objects by origin: no ties
-    assert all(a - b > 0.5 * bdinterp_blender.layered_import.DEPTH for a, b in zip(depth, depth[1:]))
+    assert all(a - b > 0.5 * bdinterp_blender.files.layered_import.DEPTH for a, b in zip(depth, depth[1:]))
     by_name = {o.name: o for o in objs}
     for obj in objs:
         assert np.abs(world_co(obj)[:, 1] - obj.location.y).max() < 1e-9, obj.name

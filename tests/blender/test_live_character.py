@@ -270,5 +270,5 @@ def test_use_selected_vertex_of_another_object_in_edit_mode(addon, character):
     bpy.ops.object.mode_set(mode='OBJECT')
     props = objs[0].bdi
     assert (props.anchor, props.anchor_vertex, props.anchor_object) == ('VERTEX', 7, hand)
-    from bdinterp_blender.settings import from_props
+    from bdinterp_blender.shapes.settings import from_props
     assert from_props(props).anchor == ("Hand", 7)

@@ -96,7 +96,7 @@ def baked(pieces):
 
 
 def stale(obj):
-    from bdinterp_blender import playback
+    from bdinterp_blender.bake import playback
     found = playback.find(obj, "Basis", "Pose")
     return playback.stale_members(obj, found)
 
@@ -149,7 +149,7 @@ def test_the_panel_says_stale_on_the_owner_and_a_member_with_bake_again(pieces):
 
 
 def test_the_panel_shows_progress_while_a_bake_runs_and_a_deleted_key(pieces):
-    from bdinterp_blender import operators
+    from bdinterp_blender.ui import operators
     torso, _ = baked(pieces)
     operators.PROGRESS["bake"] = (3, 10)
     try:

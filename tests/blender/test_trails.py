@@ -69,7 +69,7 @@ def test_trails_of_the_seven_object_character_are_the_characters_frames(addon, b
               for k in ("Basis", cb.TARGET)]
     size = cb.size_of(pieces)
     points = addon.trails(objs, samples=17)
-    from bdinterp_blender import motion_trails
+    from bdinterp_blender.view import motion_trails
     vertices = motion_trails.default_vertices(motion_trails.Path(objs))
     every = core_frames(bd, shapes, tris, np.linspace(0.0, 1.0, 17))
     expected = every[:, vertices]
@@ -102,7 +102,7 @@ def test_bad_trail_requests_name_what_is_wrong(addon):
 
 
 def test_the_overlay_is_off_by_default_and_draws_the_frames_and_keys(addon, bd):
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
     view = bpy.context.scene.bdi_view
     assert not view.ghosts and not view.trails
     obj = bent_strip()
@@ -138,7 +138,7 @@ def test_the_overlay_is_off_by_default_and_draws_the_frames_and_keys(addon, bd):
 
 
 def test_ghosts_of_frames_are_the_inbetweens_the_slider_keyframes_show_there(addon, bd):
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
     from bdinterp_blender.actions import find_fcurve
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=3)
@@ -165,7 +165,7 @@ def test_ghosts_of_frames_are_the_inbetweens_the_slider_keyframes_show_there(add
 def test_the_ghosts_are_rebuilt_when_the_anchor_path_changes(addon, bd):
     """The overlay's request covers every setting its Path solves with: an anchor path set after
     the ghosts were drawn changes the request, and the ghosts built for it follow the path."""
-    from bdinterp_blender import onion
+    from bdinterp_blender.view import onion
     obj = bent_strip()
     obj.bdi.target = "Bend"
     view = bpy.context.scene.bdi_view

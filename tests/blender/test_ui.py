@@ -115,7 +115,7 @@ def test_live_panel_warns_and_offers_bake(addon):
 
 
 def test_long_messages_wrap_to_region_width(addon):
-    from bdinterp_blender import ui
+    from bdinterp_blender.ui import panels as ui
     region = type("R", (), {"width": 600})()
     context = type("C", (), {"region": region, "preferences": bpy.context.preferences})()
     wide = ui.wrap_width(context)
@@ -141,7 +141,7 @@ def test_every_icon_in_the_source_exists_in_this_blender(addon):
     import os
     import re
     from conftest import ROOT
-    from bdinterp_blender import ui
+    from bdinterp_blender.ui import panels as ui
     src = open(os.path.join(ROOT, "addon", "bdinterp_blender", "ui.py"), encoding="utf-8").read()
     used = set(re.findall(r"icon='([A-Z0-9_]+)'", src)) | set(re.findall(r"icon=\"([A-Z0-9_]+)\"", src))
     assert used and used <= set(ui.ICONS), used - set(ui.ICONS)

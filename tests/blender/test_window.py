@@ -25,7 +25,7 @@ def test_every_panel_draws_in_a_real_window(addon, tmp_path):
     proc = run_in_window(["--open-all", "--out", png])
     out = json_lines(proc)[-1]
     assert out["errors"] == {}, out["errors"]
-    from bdinterp_blender import ui
+    from bdinterp_blender.ui import panels as ui
     for cls in ui.PANELS:
         assert out["calls"].get(cls.__name__ + ".draw", 0) >= 1, (cls.__name__, out["calls"])
     assert "Traceback" not in proc.stderr, proc.stderr[-3000:]

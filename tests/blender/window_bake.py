@@ -38,7 +38,7 @@ def view3d(window):
 def record_step_threads():
     """result['step_threads']: whether each step of the bake ran on the main thread."""
     import threading
-    from bdinterp_blender import solve
+    from bdinterp_blender.shapes import solve
     step, result["step_threads"] = solve.FrameJob.step, []
 
     def recorded(job):

@@ -32,7 +32,7 @@ def character(bdi):
 
 def count_draws():
     """result['draws']: how often the add-on's main panel drew (so its tab is known to be open)."""
-    from bdinterp_blender import ui
+    from bdinterp_blender.ui import panels as ui
     draw = ui.BDINTERP_PT_main.draw
 
     def counted(self, context):
@@ -45,7 +45,7 @@ def steps(out):
     sys.path.insert(0, os.path.join(ROOT, "examples", "blender"))
     import addon_loader
     bdi = addon_loader.enable()
-    from bdinterp_blender import operators
+    from bdinterp_blender.ui import operators
     bpy.context.preferences.view.show_splash = False
     objs = character(bdi)
     count_draws()

@@ -13,8 +13,8 @@ back.  Everything is stored in point attributes of the drawings, so a saved file
 import bpy
 from bpy.app.handlers import persistent
 
-from .character import members, to_local, to_world
-from .mesh_io import BakeError, triangles
+from ..bake.character import members, to_local, to_world
+from ..shapes.mesh_io import BakeError, triangles
 
 BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh objects' names
 REST, RADIUS, TRI, BARY, HEIGHT = ("bdi_rest_position", "bdi_rest_radius", "bdi_tri", "bdi_bary",
@@ -57,7 +57,7 @@ def world_mesh(mesh_objs, depsgraph=None):
     """(vertices (n, 3) world coordinates as shown, triangles (m, 3)) of the objects one after
     the other; rest (no depsgraph): their reference keys."""
     import numpy as np
-    from .mesh_io import read_co
+    from ..shapes.mesh_io import read_co
     points, tris, offset = [], [], 0
     for obj in mesh_objs:
         faces, _ = triangles(obj.data)

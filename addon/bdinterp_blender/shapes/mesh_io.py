@@ -106,7 +106,7 @@ def project_layers(shapes, faces, rel_tol):
     exactly layered input (Blender's float32 coordinates are only planar to ~1e-7).
     """
     import numpy as np
-    from .core import load_core
+    from ..core import load_core
     layers = load_core().Layers.fit(shapes, faces, base=0, tolerance=rel_tol)
     uv = layers.to_plane(shapes)
     return layers, [layers.to_space(x, np.eye(len(shapes))[i]) for i, x in enumerate(uv)]

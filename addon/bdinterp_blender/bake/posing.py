@@ -7,8 +7,9 @@ are joined where they overlap in the source key; they form a tree from the large
 carried to one place by both pieces' motions (each piece's best rigid motion from the source to
 the target key)."""
 
-from . import character, mesh_io, pivots, rig
-from .mesh_io import BakeError
+from . import character
+from ..shapes import mesh_io, pivots, rig
+from ..shapes.mesh_io import BakeError
 
 TORN = 0.02  # a joint is torn when its pieces part by more than this x the smaller one's size
 

@@ -9,9 +9,10 @@ import threading
 import bpy
 from bpy.props import EnumProperty, IntProperty
 
-from . import api, posing
-from .character import selected_meshes
-from .settings import CURVE_NODE, from_props
+from .. import api
+from ..bake.character import selected_meshes
+from ..shapes.settings import CURVE_NODE, from_props
+from ..bake import posing
 
 
 def settings_for(props, objs=None):
@@ -196,7 +197,7 @@ class BDINTERP_OT_rebake(_Bake, bpy.types.Operator):
     slider: bpy.props.StringProperty(name="Slider")
 
     def job(self, context):
-        from . import playback
+        from ..bake import playback
         owner = bpy.data.objects.get(self.owner)
         record = playback.records(owner).get(self.slider) if owner is not None else None
         if record is None:
@@ -348,7 +349,7 @@ class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
 
 def export_objects(context):
     """The active object and the selected mesh objects that hold a bake."""
-    from .names import BAKES_PROP
+    from ..names import BAKES_PROP
     return [o for o in selected_meshes(context) if o == context.object or o.get(BAKES_PROP)]
 
 

@@ -17,10 +17,11 @@ from contextlib import contextmanager
 import bpy
 from bpy.app.handlers import persistent
 
-from . import character, mesh_io, solve
-from .mesh_io import BakeError
-from .names import LIVE_KEY, LIVE_WARNING
-from .settings import from_props
+from . import character
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
+from ..names import LIVE_KEY, LIVE_WARNING
+from ..shapes.settings import from_props
 
 # A live request: the mode ('INTERPOLATE' or 'BLEND') and its BakeSettings (compared to notice changes).
 Settings = namedtuple("Settings", "mode bake")

@@ -4,9 +4,10 @@ characters, live mode, trails and onion skins (reads bpy data, never writes it).
 
 from dataclasses import dataclass, replace
 
-from . import rig, timing
+from . import rig
+from .. import timing
 from .mesh_io import BakeError
-from .names import DEFAULT_TOLERANCE
+from ..names import DEFAULT_TOLERANCE
 
 CURVE_NODE = "Easing"  # the node of Object.bdi.easing_curve that holds the custom easing curve
 

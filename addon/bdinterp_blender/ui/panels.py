@@ -9,7 +9,8 @@ import textwrap
 
 import bpy
 
-from .names import LIVE_WARNING
+from ..core import PACKAGE
+from ..names import LIVE_WARNING
 
 CORE_ERROR = ""  # set by __init__.register when the compiled core does not match this Blender
 
@@ -34,7 +35,7 @@ def _source_name(obj):
 
 
 def _bake_of(obj):
-    from . import playback
+    from ..bake import playback
     if not obj.bdi.target or obj.data.shape_keys.key_blocks.get(_source_name(obj)) is None:
         return None
     return playback.find(obj, _source_name(obj), obj.bdi.target)
@@ -137,7 +138,7 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
 
 def draw_export(layout, obj):
     """Bake for Export, or its removal where the keys carry an export bake."""
-    from .export import EXPORT_PROP
+    from ..bake.export import EXPORT_PROP
     row = layout.row(align=True)
     row.operator("bdinterp.bake_export", icon='EXPORT')
     if obj.get(EXPORT_PROP) is not None:
@@ -147,7 +148,7 @@ def draw_export(layout, obj):
 def character_size(context, obj):
     """How many mesh objects a bake solves together: the active one and the selected ones that
     have the target key."""
-    from .character import members, selected_meshes
+    from ..bake.character import members, selected_meshes
     return len(members(selected_meshes(context, obj), obj.bdi.target))
 
 
@@ -174,7 +175,7 @@ def draw_bake(layout, context, obj):
 
 def draw_stale(layout, obj, found, owner, width):
     """'Stale' naming the objects whose keys changed since the bake, with Bake Again."""
-    from .playback import stale_members
+    from ..bake.playback import stale_members
     stale = stale_members(obj, found)
     if not stale:
         return
@@ -294,10 +295,10 @@ class BDINTERP_PT_distortion(_Panel, bpy.types.Panel):
 
 
 class BDINTERP_AP_preferences(bpy.types.AddonPreferences):
-    bl_idname = __package__
+    bl_idname = PACKAGE  # the add-on's own name, as Blender lists it
 
     def draw(self, context):
-        from .core import build_info
+        from ..core import build_info
         info = build_info()
         if CORE_ERROR:
             draw_message(self.layout, CORE_ERROR, width=wrap_width(context, 90))
@@ -312,7 +313,7 @@ class BDINTERP_PT_view(_Panel, bpy.types.Panel):
     bl_options = {'DEFAULT_CLOSED'}
 
     def draw(self, context):
-        from . import onion
+        from ..view import onion
         error = onion.draw_settings(self.layout, context)
         if error:
             draw_message(self.layout, error, width=wrap_width(context))

@@ -7,10 +7,12 @@ module that writes baked shape keys.
 import json
 import time
 
-from . import actions, mesh_io, playback, solve, timing
-from .names import LIVE_KEY
-from .settings import from_props
-from .solve import Inputs, max_distortion
+from .. import actions, timing
+from ..shapes import mesh_io, solve
+from . import playback
+from ..names import LIVE_KEY
+from ..shapes.settings import from_props
+from ..shapes.solve import Inputs, max_distortion
 
 
 class BakeResult:

@@ -15,8 +15,9 @@ import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty
 
-from . import motion_trails, mesh_io
-from .names import LIVE_KEY, SEP
+from . import motion_trails
+from ..shapes import mesh_io
+from ..names import LIVE_KEY, SEP
 
 
 def _redraw(self=None, context=None):
@@ -87,7 +88,7 @@ def drawn_objects(context):
         return []
     if obj.mode == 'EDIT' or obj.data.shape_keys is None:
         return []
-    from .character import members, selected_meshes
+    from ..bake.character import members, selected_meshes
     return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
 
 
@@ -190,7 +191,7 @@ def trail_points(out, path, view, baked):
 def factor_at(objs, slider, frame=None):
     """The factor shown at `frame` (None: now): live mode's factor, else the slider's (owner
     object name, property) or 0; at another frame as its F-curve has it (a constant without)."""
-    from .actions import find_fcurve
+    from ..actions import find_fcurve
     props = objs[0].bdi
     if props.live and props.live_mode == 'INTERPOLATE':
         owner, data_path, value = objs[0], "bdi.live_factor", props.live_factor

@@ -10,8 +10,9 @@ whole mesh (the target's worst face) left every face but one blue on real data.
 
 import bpy
 
-from . import mesh_io, solve, timing
-from .names import DISTORTION_ATTR as ATTR, DISTORTION_COLOR as COLOR, LIVE_KEY
+from ..shapes import mesh_io, solve
+from .. import timing
+from ..names import DISTORTION_ATTR as ATTR, DISTORTION_COLOR as COLOR, LIVE_KEY
 
 _LOW = (0.15, 0.35, 1.0, 1.0)   # no worse than the inputs
 _HIGH = (1.0, 0.1, 0.05, 1.0)   # twice the inputs' K (or collapsed)

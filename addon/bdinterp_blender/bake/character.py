@@ -5,9 +5,9 @@ different objects overlap and are joined like pieces of one object; each object'
 are written back in its own local coordinates, driven by one slider on the active object.
 """
 
-from . import rig, solve
+from ..shapes import rig, solve
 from .baking import BakeJob, store_result
-from .mesh_io import BakeError
+from ..shapes.mesh_io import BakeError
 
 
 def to_world(obj, co):

@@ -4,7 +4,7 @@ transform, materials, size and place, with UVs onto the image. All objects are c
 is changed, so a failure changes none."""
 import bpy
 
-from .core import load_core
+from ..core import load_core
 
 # Presets: (label, description, parameters); spacing is a fraction of the sprite's larger side.
 PRESETS = {

@@ -4,7 +4,7 @@ import bpy
 from bpy.props import (BoolProperty, CollectionProperty, EnumProperty, FloatProperty,
                        IntProperty, PointerProperty, StringProperty)
 
-from .names import DEFAULT_TOLERANCE
+from ..names import DEFAULT_TOLERANCE
 
 EASING_ITEMS = [
     ('LINEAR', "Linear", "Evenly spaced in-betweens"),
@@ -28,12 +28,12 @@ METHOD_ITEMS = [
 
 
 def _live_changed(self, context):
-    from . import live
+    from ..bake import live
     live.on_property_change(self.id_data)
 
 
 def _live_toggled(self, context):
-    from . import live
+    from ..bake import live
     live.on_toggle(self.id_data)
 
 

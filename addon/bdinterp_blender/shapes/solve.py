@@ -10,11 +10,11 @@ import time
 
 from . import mesh_io, rig
 from .mesh_io import BakeError
-from .names import FRAMES_PER_WORKER, STEP_SECONDS
+from ..names import FRAMES_PER_WORKER, STEP_SECONDS
 
 
 def core():
-    from .core import load_core
+    from ..core import load_core
     return load_core()
 
 

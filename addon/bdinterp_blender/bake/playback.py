@@ -9,8 +9,8 @@ renamed, and reported stale after the target is edited.
 
 import hashlib
 
-from . import actions, timing
-from .names import BAKES_PROP, SLIDER_SUFFIX
+from .. import actions, timing
+from ..names import BAKES_PROP, SLIDER_SUFFIX
 
 
 def slider_name(key, source, target):
@@ -26,7 +26,7 @@ def _prop_path(prop):
 
 def signature(kb):
     """Short hash of a key's coordinates (float32 as stored)."""
-    from .mesh_io import read_raw
+    from ..shapes.mesh_io import read_raw
     return hashlib.sha1(read_raw(kb).tobytes()).hexdigest()[:16]
 
 
@@ -34,7 +34,7 @@ def inputs_signature(obj, source, target):
     """Short hash of what a bake of obj read: the source's and the target's coordinates and the
     mesh's polygons (so that an edit of either key, or of the topology, makes the bake stale)."""
     import numpy as np
-    from .mesh_io import read_raw
+    from ..shapes.mesh_io import read_raw
     key, me = obj.data.shape_keys, obj.data
     loops = np.empty(len(me.loops), np.int32)
     me.loops.foreach_get("vertex_index", loops)

@@ -7,8 +7,9 @@ so that Blender shows exactly what is exported. The object's custom property EXP
 what was written, so that remove() takes exactly that away and unmutes the drivers.
 """
 
-from . import actions, playback
-from .mesh_io import BakeError
+from .. import actions
+from . import playback
+from ..shapes.mesh_io import BakeError
 
 EXPORT_PROP = "bdi_export"
 LINEAR = 1  # index of 'LINEAR' in Keyframe.interpolation's items (foreach_set takes indices)

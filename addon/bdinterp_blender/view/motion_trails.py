@@ -5,9 +5,10 @@ one object or a cut-out character of several objects solved as one (as a bake so
 Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this computes.
 """
 
-from . import character, mesh_io, playback, solve
-from .mesh_io import BakeError
-from .settings import BakeSettings, from_props
+from ..bake import character, playback
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
+from ..shapes.settings import BakeSettings, from_props
 
 
 def settings_of(props):

@@ -5,8 +5,8 @@ import textwrap
 
 import bpy
 
-from . import api
-from .character import selected_meshes
+from .. import api
+from ..bake.character import selected_meshes
 
 
 class BDINTERP_OT_confirm_torn(bpy.types.Operator):

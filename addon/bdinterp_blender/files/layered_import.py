@@ -14,9 +14,10 @@ import tempfile
 
 import bpy
 
-from .core import load_core
+from ..core import load_core
 from .painting_files import read_painting
-from . import pivots, sprite_mesh
+from . import sprite_mesh
+from ..shapes import pivots
 
 DEPTH = 1e-3  # Blender units between consecutive layers, in the draw order
 

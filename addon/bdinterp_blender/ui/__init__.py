@@ -1,0 +1,2 @@
+"""The panel: properties on objects and scenes (properties), operators (operators) and the
+sidebar's panels and preferences (panels)."""
