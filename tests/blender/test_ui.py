@@ -142,7 +142,7 @@ def test_every_icon_in_the_source_exists_in_this_blender(addon):
     import re
     from conftest import ROOT
     from bdinterp_blender.ui import panels as ui
-    src = open(os.path.join(ROOT, "addon", "bdinterp_blender", "ui.py"), encoding="utf-8").read()
+    src = open(os.path.join(ROOT, "addon", "bdinterp_blender", "ui", "panels.py"), encoding="utf-8").read()
     used = set(re.findall(r"icon='([A-Z0-9_]+)'", src)) | set(re.findall(r"icon=\"([A-Z0-9_]+)\"", src))
     assert used and used <= set(ui.ICONS), used - set(ui.ICONS)
     assert set(ui.ICONS) <= ICONS, set(ui.ICONS) - ICONS
