@@ -67,3 +67,7 @@ def test_a_bake_from_the_ui_shows_its_progress_in_the_panel_and_status_bar(addon
     assert seen[0] == (0, 12) and any(0 < k < 12 for k, _ in seen), seen  # under way, then done
     assert out["after"] == "" and out["keys"] == 2 + 12  # the progress gone once written
     assert bpy.data.images.load(out["shot"]).size[0] == 1600
+    # a pose that pulls the forearm off: Bake asks first and bakes nothing; the dialog's OK bakes
+    assert out["torn_invoke"] == ["CANCELLED"] and out["torn_unbaked"]
+    assert out["torn_report"].startswith("'forearm_r' comes off 'upper_arm_r' by 0.3")
+    assert out["torn_ok"] == ["FINISHED"] and out["torn_baked"]

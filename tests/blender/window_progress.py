@@ -74,6 +74,39 @@ def steps(out):
             break
     result["keys"] = len(objs[0].data.shape_keys.key_blocks)
     result["after"] = operators.progress_text()
+    yield from torn(objs, window, area, main)
+
+
+def torn(objs, window, area, main):
+    """The forearm pulled off its upper arm: Bake asks first (nothing baked); OK bakes."""
+    import numpy as np
+    forearm, torso = bpy.data.objects["forearm_r"], bpy.data.objects["torso"]
+    kb = forearm.data.shape_keys.key_blocks["Pose"]
+    co = np.empty(len(kb.data) * 3, np.float32)
+    kb.data.foreach_get("co", co)
+    kb.data.foreach_set("co", (co.reshape(-1, 3) + [0.3, 0.0, 0.0]).ravel())
+    forearm.data.update()
+    yield
+    before = torso.bdi.result
+    with bpy.context.temp_override(window=window, area=area, region=main):
+        result["torn_invoke"] = sorted(bpy.ops.bdinterp.bake('INVOKE_DEFAULT'))
+    yield
+    result["torn_unbaked"] = torso.bdi.result == before
+    report = bdi_torn_report(objs)
+    with bpy.context.temp_override(window=window, area=area, region=main):
+        result["torn_ok"] = sorted(bpy.ops.bdinterp.confirm_torn('EXEC_DEFAULT', report=report))
+    for _ in range(600):
+        yield
+        if torso.bdi.result != before:
+            break
+    result["torn_baked"] = torso.bdi.result != before
+    result["torn_report"] = report
+
+
+def bdi_torn_report(objs):
+    import bdinterp_blender
+    from bdinterp_blender.bake import posing
+    return posing.describe(bdinterp_blender.torn_joints(objs, "Pose"))
 
 
 def main():

@@ -30,10 +30,13 @@ class BDINTERP_OT_confirm_torn(bpy.types.Operator):
             col.label(text=line, icon='ERROR' if i == 0 else 'BLANK1')
 
     def execute(self, context):
+        """Start the bake asked about (it runs on as its own modal operator)."""
         if self.rebake:
-            return bpy.ops.bdinterp.rebake('INVOKE_DEFAULT', confirmed=True, owner=self.owner,
-                                           slider=self.slider)
-        return bpy.ops.bdinterp.bake('INVOKE_DEFAULT', confirmed=True)
+            started = bpy.ops.bdinterp.rebake('INVOKE_DEFAULT', confirmed=True, owner=self.owner,
+                                              slider=self.slider)
+        else:
+            started = bpy.ops.bdinterp.bake('INVOKE_DEFAULT', confirmed=True)
+        return {'FINISHED'} if started & {'RUNNING_MODAL', 'FINISHED'} else {'CANCELLED'}
 
 
 class BDINTERP_OT_add_pose(bpy.types.Operator):
