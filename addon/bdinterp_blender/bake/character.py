@@ -129,6 +129,11 @@ class CharacterBakeJob(BakeJob):
     def inputs(self, obj, settings):
         return CharacterInputs(self._objs, settings)
 
+    @property
+    def objects(self):
+        """The character's objects (those with the target key), the slider's owner first."""
+        return list(self._objs)
+
     def finish(self):
         """Compute what is left, plan every object, then write them all; a BakeResult."""
         inp = self.inp

@@ -170,7 +170,7 @@ class _Bake(_ObjectOperator):
 
 def torn_of(job):
     """The joints the pose of a character's BakeJob tears apart (posing.torn_joints)."""
-    objs = getattr(job, "_objs", None)
+    objs = getattr(job, "objects", None)  # a character's (one object has no joints to tear)
     if not objs:
         return []
     return posing.torn_joints(objs, job.inp.others[0].name, job.inp.source.name)
