@@ -104,8 +104,9 @@ def torn(objs, window, area, main):
 
 
 def bdi_torn_report(objs):
+    import importlib
     import bdinterp_blender
-    from bdinterp_blender.bake import posing
+    posing = importlib.import_module(bdinterp_blender.__name__ + ".bake.posing")  # see test_posing
     return posing.describe(bdinterp_blender.torn_joints(objs, "Pose"))
 
 
