@@ -56,6 +56,7 @@ def test_add_pose_puts_one_key_on_every_piece(pieces):
         names = [kb.name for kb in obj.data.shape_keys.key_blocks]
         assert names == ["Basis", "Pose"], obj.name
         assert obj.active_shape_key.name == "Pose" and obj.bdi.target == "Pose"
+        assert obj.data.shape_keys.key_blocks["Pose"].value == 0.0  # the slider may drive it
         assert np.array_equal(read_key(obj, "Pose"), read_key(obj, "Basis"))
     assert bpy.ops.bdinterp.add_pose() == {'FINISHED'}  # the next pose gets a name of its own
     assert {o.bdi.target for o in pieces} == {"Pose 2"}

@@ -39,7 +39,8 @@ def add_pose(objs, name=None):
     for obj in objs:
         if obj.data.shape_keys is None:
             obj.shape_key_add(name="Basis", from_mix=False)
-        obj.shape_key_add(name=name, from_mix=False)
+        # value 0 (Blender 5 makes new keys 1): a value set by hand keeps the slider off the key
+        obj.shape_key_add(name=name, from_mix=False).value = 0.0
         obj.active_shape_key_index = len(obj.data.shape_keys.key_blocks) - 1
         if hasattr(obj, "bdi"):  # the settings exist while the add-on is registered
             obj.bdi.target = name
