@@ -6,6 +6,15 @@ BUILD   ?= build
 JOBS    ?= 2
 PIP_INSTALL = $(PYTHON) -m pip install --no-build-isolation --no-deps --break-system-packages --quiet
 VERSION := $(shell cat VERSION)
+# ccache where installed (scripts/setup-debian.sh installs it): a compile that another build of
+# this run has done (the library in `build`, `pip install .`, the CHOLMOD-from-source builds), or
+# an earlier run in any clone (paths relative to the checkout), is not done again. The chroots'
+# builds (no ccache there) drop the launcher (scripts/build-portable.sh).
+# Recursive (=): looked up when a recipe runs, after `setup` has installed it on a fresh machine.
+CCACHE = $(shell command -v ccache 2>/dev/null)
+export CMAKE_C_COMPILER_LAUNCHER = $(CCACHE)
+export CMAKE_CXX_COMPILER_LAUNCHER = $(CCACHE)
+export CCACHE_BASEDIR = $(CURDIR)
 # The shipped modules and the chroots they are built and tested in (made afresh in a fresh clone).
 PORTABLE ?= $(BUILD)/portable
 export BDI_CHROOTS ?= $(CURDIR)/$(PORTABLE)/chroots
@@ -140,7 +149,7 @@ test-libcxx: setup  ## the C++ suite with clang and libc++ (Apple's C++ library)
 	$(BUILD)/libcxx/bdinterp_tests
 	# macOS's probes: compiled against declarations of Apple's calls only (tests/cpp/macos_sdk), not run
 	$(CLANGXX) -std=c++17 -stdlib=libc++ -Wall -Wextra -Werror -fsyntax-only -D__APPLE__ \
-	      -Itests/cpp/macos_sdk -Icpp/include -Icpp/src cpp/src/machine_probe_macos.cpp
+	      -Itests/cpp/macos_sdk -Icpp/include -Icpp/src cpp/src/parallel/machine_probe_macos.cpp
 
 test-wheel-source: suitesparse  ## the wheels workflow's linux-x64 build commands; its wheel's Python suite
 	bash scripts/test-wheel-source.sh $(BUILD)/wheel-source $(SUITESPARSE)
@@ -168,15 +177,16 @@ FUZZ_TARGETS  = fuzz_raw_input fuzz_disk_targets
 SANITIZE      = -fsanitize=address,undefined -fno-sanitize-recover=undefined -fno-omit-frame-pointer
 FUZZ_FLAGS    = -std=c++17 -O1 -g $(SANITIZE) -Icpp/include -Icpp/src -Itests/cpp -I/usr/include/eigen3 \
                 -I/usr/include/suitesparse
-# the Linux build's sources: the Windows and macOS probes do not compile here
-FUZZ_SOURCES  = $(filter-out cpp/src/machine_probe_windows.cpp cpp/src/machine_probe_macos.cpp,$(wildcard cpp/src/*.cpp))
+# the Linux build's sources: the Windows and macOS probes do not compile here; no sprite mesher (CGAL)
+FUZZ_SOURCES  = $(filter-out cpp/src/parallel/machine_probe_windows.cpp cpp/src/parallel/machine_probe_macos.cpp \
+                  cpp/src/sprite/%,$(wildcard cpp/src/*/*.cpp))
 FUZZ_OBJECTS  = $(patsubst cpp/src/%.cpp,$(FUZZ_BUILD)/%.o,$(FUZZ_SOURCES))
 
 .PHONY: fuzz fuzz-build fuzz-known asan
 .SECONDARY: $(FUZZ_OBJECTS)
-$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/*.h cpp/src/detail/*.h)
-	@mkdir -p $(FUZZ_BUILD)
-	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
+$(FUZZ_BUILD)/%.o: cpp/src/%.cpp $(wildcard cpp/include/bdinterp/*.h cpp/src/*/*.h)
+	@mkdir -p $(dir $@)
+	$(CCACHE) $(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer-no-link -c $< -o $@
 $(FUZZ_BUILD)/%: tests/fuzz/%.cpp tests/fuzz/fuzz_common.h $(FUZZ_OBJECTS)
 	$(CLANGXX) $(FUZZ_FLAGS) -fsanitize=fuzzer $< $(FUZZ_OBJECTS) -lcholmod -lpthread -o $@
 fuzz-build: $(addprefix $(FUZZ_BUILD)/,$(FUZZ_TARGETS))

@@ -27,10 +27,10 @@
 #include "bdinterp/distortion.h"
 #include "bdinterp/interpolator.h"
 #include "busy.h"
-#include "flatten.h"
-#include "mesh.h"
-#include "metric_blend.h"
-#include "parallel.h"
+#include "flatten/flatten.h"
+#include "mesh/mesh.h"
+#include "blend/metric_blend.h"
+#include "parallel/parallel.h"
 #include "test_meshes.h"
 
 namespace bd = bdinterp;

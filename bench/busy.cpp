@@ -1,6 +1,6 @@
 #include "busy.h"
 
-#include "parallel.h"
+#include "parallel/parallel.h"
 
 #include <signal.h>
 #include <sys/wait.h>

@@ -62,7 +62,8 @@ $(build_one 313 "/deps/usr/include/python3.13;/deps/usr/include" /deps/usr/inclu
 $(build_one 314 "/deps5/usr/include/python3.14;/deps5/usr/include" /deps5/usr/include)"
 unshare -m sh -c "mount --bind '$ROOT' '$BUILDER/src' && mount -o bind,ro '$DEPS/root' '$BUILDER/deps' &&
   mount -o bind,ro '$DEPS5/root' '$BUILDER/deps5' && mount -o bind,ro '$SUITESPARSE/src' '$BUILDER/suitesparse' &&
-  mount --bind '$OUT' '$BUILDER/out' && chroot '$BUILDER' sh -c '$script'" \
+  mount --bind '$OUT' '$BUILDER/out' &&
+  chroot '$BUILDER' env -u CMAKE_C_COMPILER_LAUNCHER -u CMAKE_CXX_COMPILER_LAUNCHER sh -c '$script'" \
   || { tail -30 "$OUT"/cmake-py3*.log >&2; exit 1; }
 
 # Everything outside the manylinux set, bundled next to each module under private names.

@@ -4,7 +4,7 @@
 #   scripts/setup-debian.sh demo   only what `make demo` needs: the host module and Blender 3.4
 set -euo pipefail
 demo=(
-  build-essential cmake
+  build-essential cmake ccache
   libsuitesparse-dev libeigen3-dev libopenblas0-pthread   # CHOLMOD (fast BLAS for its supernodal path), Eigen
   python3-dev pybind11-dev python3-numpy                  # the compiled module for /usr/bin/python3
   blender libegl1 libegl-mesa0                            # the add-on's host (Debian's 3.4.1, Python 3.11), headless rendering
@@ -14,6 +14,7 @@ rest=(
   libgtest-dev libbenchmark-dev                           # C++ tests and benchmarks
   python3-pip python3-setuptools python3-pybind11
   python3-scipy python3-matplotlib python3-pytest python3-pil
+  python3-hypothesis                                      # the property-based fuzzer of the painting readers
   debootstrap patchelf binutils                           # portable modules: Debian 11/13 chroots, bundling, audit
   xvfb xauth nodejs                                       # panels in a real window; the Flamenco job compiled in node
   clang libclang-rt-14-dev                                # fuzz targets (libFuzzer) and the ASan/UBSan test build

@@ -5,18 +5,22 @@ Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, t
 Subpackages by the animator's task, each importing only from the layers before it
 (tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
 timing -> shapes (keys read, settings, solve: no writes) -> files (paintings in, Mesh from Image)
-and bake (slider, bake jobs, export, characters, live mode) -> view (what the viewport draws) ->
-api (the scripting facade) -> ui (properties, operators, panels) -> this file (registration).
+and keys (what writes shape keys: the slider, bake jobs, export, characters, live mode) -> view
+(what the viewport draws) and params (pose parameters: grids of poses followed live, Bake Grid)
+-> api (the scripting facade) and strokes (Grease Pencil in-betweens, their operator and panel)
+-> ui (properties, operators, panels) -> this file (registration).
 """
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
 MODULES = ("core", "names", "actions", "timing",
            "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
-           "bake.playback", "bake.baking", "bake.export", "bake.character", "bake.posing", "bake.live",
+           "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.posing", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.drawing_bind",
-           "api", "ui.properties", "ui.operators", "ui.pose_operators",
-           "ui.panels")
+           "params.live", "params.setup", "params.bake_grid",
+           "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators",
+           "ui.pose_operators", "ui.panels",
+           "ui.pose_grids")
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
     import importlib
@@ -54,11 +58,16 @@ from .files.sprite_mesh import mesh_from_image  # noqa: E402
 from .files.layered_import import import_layered  # noqa: E402
 from .view.motion_trails import trails  # noqa: E402
 from .view.drawing_bind import bind_drawing, unbind_drawing  # noqa: E402
+from .strokes.drawing import interpolate_drawing  # noqa: E402
+from .params.setup import drive_by_bone, pose_grid, pose_grid_report, remove_pose_grid  # noqa: E402
+from .params.bake_grid import bake_grid  # noqa: E402
 
 __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_bound_factors", "blend",
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
-           "bind_drawing", "unbind_drawing", "add_pose", "torn_joints"]
+           "bind_drawing", "unbind_drawing", "interpolate_drawing", "pose_grid", "drive_by_bone",
+           "remove_pose_grid", "bake_grid", "pose_grid_report",
+           "add_pose", "torn_joints"]
 
 _modules = []
 
@@ -75,10 +84,14 @@ def register():
     else:
         from .ui import properties, operators, pose_operators
         from .view import onion, drawing_bind
-        from .bake import live as live_mod
+        from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
+        from .strokes import ops as strokes_ops
+        from .params import live as grid_live
+        from .ui import pose_grids
         _modules = [properties, onion, drawing_bind, operators, pose_operators, ui, live_mod,
-                    sprite_mesh, layered_import]
+                    sprite_mesh, layered_import,
+                    strokes_ops, grid_live, pose_grids]
     for mod in _modules:
         mod.register()
 

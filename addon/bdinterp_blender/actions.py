@@ -81,3 +81,28 @@ def _ensure_channelbag(utils, action, slot):
     layer = action.layers[0] if action.layers else action.layers.new("Layer")
     strip = layer.strips[0] if layer.strips else layer.strips.new(type='KEYFRAME')
     return strip.channelbags.new(slot)
+
+
+# Keyframe attributes that make a curve's shape: (name, values per point); enums go as indices.
+_POINT_ATTRS = (("co", 2), ("handle_left", 2), ("handle_right", 2), ("interpolation", 1),
+                ("easing", 1), ("handle_left_type", 1), ("handle_right_type", 1), ("type", 1))
+
+
+def points_of(fc):
+    """{attribute: flat list} of every keyframe point of F-curve fc (see set_points)."""
+    points, out = fc.keyframe_points, {}
+    for name, size in _POINT_ATTRS:
+        values = [0] * (len(points) * size)
+        points.foreach_get(name, values)
+        out[name] = values
+    return out
+
+
+def set_points(fc, snapshot):
+    """Give F-curve fc (with no points) the keyframe points of points_of's snapshot {attribute:
+    flat list}, "co" and any others of _POINT_ATTRS (those missing keep Blender's defaults)."""
+    points = fc.keyframe_points
+    points.add(len(snapshot["co"]) // 2)
+    for name, values in snapshot.items():
+        points.foreach_set(name, values)
+    fc.update()

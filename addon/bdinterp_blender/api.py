@@ -15,10 +15,10 @@ RuntimeError from the solver) leaves the object unchanged.
 
 import time
 
-from .bake import baking, character, export, live, playback, posing
+from .keys import baking, character, export, live, playback, posing
 from .view import distortion
 from .shapes import mesh_io, solve
-from .bake.baking import BakeJob, BakeResult, run, write_key
+from .keys.baking import BakeJob, BakeResult, run, write_key
 from .shapes.mesh_io import BakeError
 from .names import DEFAULT_TOLERANCE, LIVE_KEY
 from .shapes.settings import BakeSettings, anchor_choice

@@ -1,6 +1,8 @@
 """Names and defaults shared by the add-on's modules (no bpy, no numpy): one place to change them."""
 
 LIVE_KEY = "bdi.live"          # shape key written by live mode
+POSE_KEY = "bdi.pose"          # shape key written by pose grids (pose parameters)
+GRID_BAKE_SEP = ".bake."       # Bake Grid's keys: <grid>.bake.<i>_<j>
 SEP = ".bdi."                  # baked keys: <target>.bdi.<factor in percent>
 SLIDER_SUFFIX = ".bdi"         # playback slider: <target>.bdi (custom property on the object)
 BAKES_PROP = "_bdi_bakes"      # object custom property recording each bake (found after renames)

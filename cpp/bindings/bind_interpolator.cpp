@@ -2,7 +2,7 @@
 // Every call that solves releases the GIL first; the Interpolator then takes its own mutex, so a
 // thread waiting for that mutex never holds the GIL and the two locks cannot deadlock.
 #include "bdinterp/interpolator.h"
-#include "parallel.h"
+#include "parallel/parallel.h"
 #include "bindings.h"
 
 namespace bdinterp::bindings {

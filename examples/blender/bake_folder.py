@@ -98,7 +98,7 @@ def characters(objs, addon):
     groups = {}
     for obj in objs:
         for source, target in pairs(obj, addon):
-            record = addon.bake.playback.find(obj, source, target)
+            record = addon.keys.playback.find(obj, source, target)
             owner = record.record.get("owner") if record is not None else None
             group = ("owner", owner) if owner else \
                 ("parent", obj.parent.name) if obj.parent is not None else None

@@ -110,7 +110,7 @@ def instrument(live, clock):
 
 
 def measure(addon, n_side):
-    from bdinterp_blender.bake import live
+    from bdinterp_blender.keys import live
     clock = Clock()
     obj = strip(n_side)
     scene = bpy.context.scene

@@ -8,8 +8,12 @@ Public API (numpy in, numpy out):
         .at(t), .blend(weights), .frames(ts), .stats (FrameStats)
     conformal_distortion(source, result, faces), area_ratio(source, result, faces),
     flipped_faces(source, result, faces)
-    mesh_from_image(image, *, threshold, spacing, detail, padding, min_angle, min_area) -> SpriteMesh
+    mesh_from_image(image, **options) -> SpriteMesh (options: SpriteMeshOptions' fields)
         (a triangle mesh of a sprite's alpha)
+    Stroke, StrokeInterpolator, interpolate_strokes (drawn strokes as thin bands, bdinterp.strokes)
+    pose_grid: Parameter, PoseGrid (poses on a grid of parameter values: multilinear weights,
+        wrapping angles, clamping), PoseBlender (groups of them combined, blended by one Interpolator)
+    pose_bake: GridBake (a grid's in-betweens on a finer grid for linear runtimes, and their error)
     Plane (the plane of planar 3D input), Layers (pieces in parallel planes at their own depths),
     AnchorPath, FrameStats, METHODS, PLANAR_TOLERANCE
     threading_info() (usable cores, the busy verdict, the BLAS/OpenMP runtimes CHOLMOD calls)
@@ -21,12 +25,18 @@ from .constants import METHOD_LABELS, METHODS, PLANAR_TOLERANCE
 from .errors import InvalidInputError
 from .distortion import area_ratio, conformal_distortion, flipped_faces
 from .interpolate import AnchorPath, Interpolator, blend, frames, interpolate
+from . import pose_bake, pose_grid
+from .pose_grid import Parameter, PoseBlender, PoseGrid
 from .layers import Layers
 from .plane import Plane
-from .sprite import SpriteMesh, mesh_from_image
+from .sprite import SpriteMesh, SpriteMeshOptions, mesh_from_image
+from . import strokes
+from .strokes import Stroke, StrokeInterpolator, interpolate_strokes
 
 __version__ = "0.1.0"
 
 __all__ = ["interpolate", "frames", "blend", "Interpolator", "AnchorPath", "FrameStats", "Plane", "Layers",
            "conformal_distortion", "area_ratio", "flipped_faces", "SolverError", "InvalidInputError", "METHODS",
-           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh", "__version__"]
+           "METHOD_LABELS", "PLANAR_TOLERANCE", "threading_info", "mesh_from_image", "SpriteMesh",
+           "SpriteMeshOptions", "strokes", "Stroke", "StrokeInterpolator", "interpolate_strokes", "__version__",
+           "pose_grid", "pose_bake", "Parameter", "PoseGrid", "PoseBlender"]

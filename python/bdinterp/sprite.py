@@ -10,7 +10,6 @@ no edge longer than `spacing`.
 PNG files are read with Pillow (Debian's python3-pil); inside Blender the add-on reads images with
 bpy and passes arrays, so no image library is needed there.
 """
-from dataclasses import dataclass
 import os
 
 import numpy as np
@@ -19,23 +18,11 @@ from . import _core
 from .errors import invalid
 
 
-@dataclass(frozen=True)
-class SpriteMesh:
-    """vertices (n, 2) in pixels (x right, y up, origin at the image's bottom-left corner), faces
-    (m, 3) counter-clockwise, uvs (n, 2) = vertices / (width, height); spacing: the edge bound used;
-    islands, holes: kept; dropped_islands, dropped_holes: smaller than min_area (or closed by the
-    padding); outline_vertices; area (pixels^2); size: the image's (width, height)."""
-    vertices: np.ndarray
-    faces: np.ndarray
-    uvs: np.ndarray
-    spacing: float
-    outline_vertices: int
-    islands: int
-    holes: int
-    dropped_islands: int
-    dropped_holes: int
-    area: float
-    size: tuple
+# The mesh and the options with their defaults are the compiled core's (one definition, in
+# cpp/include/bdinterp/sprite_mesh.h); a core built without the mesher has neither.
+SpriteMesh = getattr(_core, "SpriteMesh", None)
+SpriteMeshOptions = getattr(_core, "SpriteMeshOptions", None)
+OPTIONS = tuple(n for n in dir(SpriteMeshOptions) if not n.startswith("_")) if SpriteMeshOptions else ()
 
 
 def read_alpha(path):
@@ -75,23 +62,29 @@ def alpha_of(image):
     return np.ascontiguousarray(a, dtype=np.float32)
 
 
-def mesh_from_image(image, *, threshold=0.5, spacing=None, detail=1.0, padding=1.0, min_angle=20.0,
-                    min_area=4.0):
+def mesh_from_image(image, **options):
     """A SpriteMesh of the pixels with alpha >= threshold of `image` (a path to a PNG or another
     image Pillow reads, an (h, w, 4) RGBA array of uint8 or floats in [0, 1], or an (h, w) alpha).
 
-    spacing: the longest edge in pixels; None: a twelfth of the larger side of the sprite's bounding
-    box (at least 2). detail: how far the simplified outline may stray from the traced one; padding:
-    how far the outline grows outwards (both pixels); min_angle: degrees, in (0, 30]; min_area:
-    islands and holes smaller than this (pixels^2) are dropped.
+    options (defaults: SpriteMeshOptions()): threshold; spacing: the longest edge in pixels, None
+    or 0: the larger side of the sprite's bounding box / spacing_divisions (12), at least 2;
+    detail: how far the simplified outline may stray from the traced one; padding: how far the
+    outline grows outwards (both pixels); min_angle: degrees, in (0, 30]; min_area: islands and
+    holes smaller than this (pixels^2) are dropped.
     Raises InvalidInputError naming the problem: not an image, smaller than 2 x 2, NaN alpha,
-    threshold outside (0, 1], spacing <= 0, nothing at or above the threshold.
+    an unknown option, threshold outside (0, 1], spacing < 0, nothing at or above the threshold.
     """
-    if not getattr(_core, "has_sprite_mesher", False):
+    if SpriteMesh is None:
         raise RuntimeError("this build of bdinterp has no sprite mesher (built without CGAL)")
-    if spacing is not None and not float(spacing) > 0:
-        raise invalid(f"spacing must be a positive number of pixels (or None), not {spacing}")
-    alpha = alpha_of(image)
-    out = _core.mesh_from_alpha(alpha, float(threshold), 0.0 if spacing is None else float(spacing),
-                                float(detail), float(padding), float(min_angle), float(min_area))
-    return SpriteMesh(size=(alpha.shape[1], alpha.shape[0]), **out)
+    unknown = sorted(set(options) - set(OPTIONS))
+    if unknown:
+        raise invalid(f"unknown option {', '.join(unknown)}; the options are {', '.join(OPTIONS)}")
+    settings = SpriteMeshOptions()
+    for name, value in options.items():
+        if name == "spacing" and value is None:
+            value = 0.0
+        try:
+            setattr(settings, name, float(value))
+        except (TypeError, ValueError):
+            raise invalid(f"{name} must be a number, not {value!r}") from None
+    return _core.mesh_from_alpha(alpha_of(image), settings)

@@ -65,7 +65,7 @@ def test_bake_found_after_target_renamed(addon):
     obj = bent_strip()
     first = addon.bake(obj, target="Bend", count=3)
     obj.data.shape_keys.key_blocks["Bend"].name = "Arm"
-    from bdinterp_blender.bake import playback
+    from bdinterp_blender.keys import playback
     found = playback.find(obj, "Basis", "Arm")
     assert found is not None and found.status == "renamed" and found.keys == first.keys
     second = addon.bake(obj, target="Arm", count=2)
@@ -80,7 +80,7 @@ def test_bake_found_after_target_renamed(addon):
 def test_bake_reported_stale_after_target_edit(addon):
     obj = bent_strip()
     addon.bake(obj, target="Bend", count=2)
-    from bdinterp_blender.bake import playback
+    from bdinterp_blender.keys import playback
     assert playback.find(obj, "Basis", "Bend").status == ""
     kb = obj.data.shape_keys.key_blocks["Bend"]
     kb.data[0].co.x += 0.05

@@ -45,7 +45,7 @@ def check_baked_as_one(path, pieces, joints):
     bpy.ops.wm.open_mainfile(filepath=path)
     names = sorted(p.name for p in pieces)
     objs = [bpy.data.objects[p.name] for p in pieces]
-    from bdinterp_blender.bake import playback
+    from bdinterp_blender.keys import playback
     owners = {playback.find(o, "Basis", cb.TARGET).record["owner"] for o in objs}
     assert owners == {names[0]}  # one slider, on the first by name
     assert sum("Pose.bdi" in o.keys() for o in objs) == 1

@@ -2,8 +2,9 @@
 
 Three characters (examples/character as one object, examples/cutout as one object and as seven
 objects) are baked, their slider keyframed over 24 frames with Blender's default (eased) Bezier
-keys, and what Blender shows at each frame is recorded. After Bake for Export Blender shows the
-same; FBX and Alembic exports re-imported show it too. The glTF files (before and after Bake for
+keys, and what Blender shows at each frame is recorded; so is examples/face's head grid after
+Bake Grid (n = 2), its angle_x keyframed and its angle_y driven by a keyframed bone. After Bake
+for Export Blender shows the same; FBX and Alembic exports re-imported show it too. The glTF files (before and after Bake for
 Export) and the recorded frames go to build/runtime/blender-X.Y, where tests/runtime plays them
 in three.js on the host (the chroots have no node).
 """
@@ -27,7 +28,7 @@ import cutout_character as cc  # noqa: E402
 FRAMES = (1, 24)
 BOUND = 1e-5       # of the character's size, at every frame and vertex
 OUT = os.path.join(ROOT, "build", "runtime", "blender-%d.%d" % bpy.app.version[:2])
-CASES = ("character", "cutout_one", "cutout_seven")
+CASES = ("character", "cutout_one", "cutout_seven", "face_grid")
 
 
 def seams(obj):
@@ -51,8 +52,32 @@ def character(bd):
     return [obj]
 
 
+def face_grid():
+    """examples/face with its head grid baked (Bake Grid, n = 2), angle_x keyframed from -30 to 30
+    and the neck bone (which drives angle_y) from 0.4 to -0.4 radians."""
+    sys.path.insert(0, os.path.join(ROOT, "examples", "face"))
+    import face_blender
+    obj, paths = face_blender.build()
+    bd_addon = importlib.import_module("bdinterp_blender")
+    bd_addon.bake_grid(obj, "head", n=2)
+    seams(obj)
+    neck = bpy.data.objects["Rig"].pose.bones["Neck"]
+    for frame, x, turn in ((FRAMES[0], -30.0, 0.4), (FRAMES[1], 30.0, -0.4)):
+        obj.bdi_grids["head"].params["angle_x"].amount = x
+        obj.keyframe_insert(paths["head"]["angle_x"], frame=frame)
+        neck.rotation_euler.z = turn
+        neck.keyframe_insert("rotation_euler", index=2, frame=frame)
+    bpy.context.scene.frame_start, bpy.context.scene.frame_end = FRAMES
+    bpy.ops.object.select_all(action='DESELECT')
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    return [obj]
+
+
 def build(case, bd):
     """The objects of a case, baked (4 in-betweens), the active one's slider keyframed 0 -> 1."""
+    if case == "face_grid":
+        return face_grid()
     if case == "character":
         objs = character(bd)
     else:
@@ -186,23 +211,25 @@ def test_bake_for_export_names_the_actions_after_the_slider(baked):
     case, path, truth, _, _ = baked
     bpy.ops.wm.open_mainfile(filepath=path)
     objs = objects(truth)
-    slider = cb.TARGET + ".bdi"
+    slider = "head" if case == "face_grid" else cb.TARGET + ".bdi"  # the grid's name, or the slider
+    others = ["RigAction"] if case == "face_grid" else []  # the face's bones have an action too
     names = [o.data.shape_keys.animation_data.action.name for o in objs]
     glb = os.path.join(OUT, case + ".named.glb")
     export_gltf(glb)
     if bpy.app.version >= (4, 4, 0):  # slotted actions: one action, a slot per piece
         assert names == [slider] * len(objs)
         assert len({o.data.shape_keys.animation_data.action_slot.handle for o in objs}) == len(objs)
+        assert glb_animations(glb) == sorted([slider] + others)
     else:  # one action per piece, the slider's name then the piece's
         assert names == ["%s|%s" % (slider, o.name) for o in objs]
-        assert glb_animations(glb) == sorted(names)
+        assert glb_animations(glb) == sorted(names + others)
         # one clip (docs/KEYFRAMES.md): the active actions merged under the slider's name
         options = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
         merged = (dict(export_animation_mode='ACTIVE_ACTIONS') if "export_animation_mode" in options
                   else dict(export_nla_strips=False))
         bpy.ops.export_scene.gltf(filepath=glb, export_format='GLB', export_animations=True,
                                   export_nla_strips_merged_animation_name=slider, **merged)
-    assert glb_animations(glb) == [slider]
+        assert glb_animations(glb) == [slider]
 
 
 def test_remove_export_bake_restores_the_drivers(baked):

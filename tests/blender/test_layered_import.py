@@ -109,7 +109,7 @@ def test_broken_file_imports_nothing(addon, ora, tmp_path):
             if item != "data/arm.png":
                 dst.writestr(item, src.read(item))
     before = (len(bpy.data.objects), len(bpy.data.meshes), len(bpy.data.images), len(bpy.data.materials))
-    with pytest.raises(ValueError, match="the image .data/arm.png. of layer .arm. is missing from the file"):
+    with pytest.raises(ValueError, match="layer 'arm': its image 'data/arm.png' is missing"):
         bdinterp_blender.import_layered(str(broken))
     with pytest.raises(ValueError, match="not an OpenRaster file"):
         bdinterp_blender.import_layered(str(tmp_path / "head.png"))
@@ -199,7 +199,7 @@ def broken_coa(coa, change):
     (lambda d: d["nodes"][1].update(frame_index=4), r"node 1 'eye': 'frame_index' must be a frame of"),
     (lambda d: d["nodes"][1].update(opacity=2), r"node 1 'eye': 'opacity' must lie in \[0, 1\]"),
     (lambda d: d["nodes"][3].update(resource_path="character.json"),
-     r"broken.json': layer 'head': .*character.json"),
+     r"broken.json': node 3 'head': its image '.*character.json': it is not a PNG image"),
     (lambda d: d.pop("nodes"), r"is not a COA Tools JSON file: it has no list of 'nodes'"),
 ])
 def test_broken_coa_json_imports_nothing(addon, coa, change, message):

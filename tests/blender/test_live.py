@@ -7,7 +7,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import (TOL, add_key, bent_strip, evaluated_co, fcurve, fcurves, maxdiff, read_key,
+from conftest import (TOL, USER_ENV, add_key, bent_strip, evaluated_co, fcurve, fcurves, maxdiff, read_key,
                       run_blender, triangles, two_pieces)
 
 FRAMES = (1, 3, 6, 8, 11)
@@ -120,6 +120,42 @@ def rendered(folder):
     return out
 
 
+def reference_file(obj, shapes, tmp):
+    """Save tmp/ref.blend with keys 'Ref<frame>' holding shapes {frame: (n, 3)}, each keyframed
+    (constant) to show on its frame only: the reference of a render test. Returns its path."""
+    for frame, co in shapes.items():
+        kb = add_key(obj, "Ref%d" % frame, co)
+        for f in shapes:
+            kb.value = 1.0 if f == frame else 0.0
+            kb.keyframe_insert("value", frame=f)
+    for fc in fcurves(obj.data.shape_keys.animation_data):
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'CONSTANT'
+    path = os.path.join(tmp, "ref.blend")
+    bpy.ops.wm.save_as_mainfile(filepath=path)
+    return path
+
+
+def render_pair(tmp, live_path, ref_path, failure, differ):
+    """Render both files with `blender -b FILE -a` (the add-on enabled for the first; `failure`
+    must not be in its output): three frames each, the same pictures (a stray pixel allowed),
+    the first and last frames differing in more than `differ` of the pixels."""
+    out = []
+    for name, path, addons in (("live_out", live_path, ["--addons", "bdinterp_blender"]),
+                               ("ref_out", ref_path, [])):
+        folder = os.path.join(tmp, name)
+        proc = run_blender([path] + addons + ["-o", folder + "/f_####", "-a"],
+                           env_drop=() if addons else USER_ENV)
+        assert proc.returncode == 0, proc.stderr[-2000:]
+        assert failure not in proc.stdout, proc.stdout[-2000:]
+        out.append(rendered(folder))
+    live, ref = out
+    assert len(live) == len(ref) == 3
+    for a, b in zip(live, ref):
+        assert np.mean(np.abs(a - b) > 1e-3) < 0.002
+    assert np.mean(np.abs(live[0] - live[2]) > 1e-3) > differ
+
+
 def test_live_renders_with_blender_b_a(addon, bd, tmp_path):
     """`blender -b file.blend -a` renders the live result of each frame: the frames equal
     renders of a plain file holding the expected shapes as keyframed shape keys."""
@@ -136,26 +172,6 @@ def test_live_renders_with_blender_b_a(addon, bd, tmp_path):
     S, T, faces = read_key(obj, "Basis"), read_key(obj, "Bend"), triangles(obj)
     obj.bdi.live = False
     obj.data.shape_keys.key_blocks["bdi.live"].value = 0.0
-    for frame, t in ((1, 0.0), (2, 0.5), (3, 1.0)):
-        kb = add_key(obj, "Ref%d" % frame, bd.interpolate(S, T, faces, t))
-        for f in (1, 2, 3):
-            kb.value = 1.0 if f == frame else 0.0
-            kb.keyframe_insert("value", frame=f)
-    for fc in fcurves(obj.data.shape_keys.animation_data):
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'CONSTANT'
-    ref_path = os.path.join(tmp, "ref.blend")
-    bpy.ops.wm.save_as_mainfile(filepath=ref_path)
-
-    live_out, ref_out = os.path.join(tmp, "live_out"), os.path.join(tmp, "ref_out")
-    proc = run_blender([live_path, "--addons", "bdinterp_blender", "-o", live_out + "/f_####", "-a"],
-                       env_drop=())
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    assert "live mode turned off" not in proc.stdout, proc.stdout[-2000:]
-    proc = run_blender([ref_path, "-o", ref_out + "/f_####", "-a"])
-    assert proc.returncode == 0, proc.stderr[-2000:]
-    live, ref = rendered(live_out), rendered(ref_out)
-    assert len(live) == len(ref) == 3
-    for a, b in zip(live, ref):
-        assert np.mean(np.abs(a - b) > 1e-3) < 0.002  # same picture (allow a stray pixel)
-    assert np.mean(np.abs(live[0] - live[2]) > 1e-3) > 0.02  # and the frames do differ
+    ref_path = reference_file(obj, {frame: bd.interpolate(S, T, faces, t)
+                                    for frame, t in ((1, 0.0), (2, 0.5), (3, 1.0))}, tmp)
+    render_pair(tmp, live_path, ref_path, "live mode turned off", differ=0.02)

@@ -97,11 +97,7 @@ def baked(pieces):
 
 
 def stale(obj):
-    import importlib
-    import bdinterp_blender
-    # by the package's own name: as an extension, importing the alias's subpackage `bake` would
-    # set the package's attribute `bake` (the function) to the subpackage
-    playback = importlib.import_module(bdinterp_blender.__name__ + ".bake.playback")
+    from bdinterp_blender.keys import playback
     found = playback.find(obj, "Basis", "Pose")
     return playback.stale_members(obj, found)
 

@@ -49,8 +49,9 @@ def test_two_planes_one_undo_step(addon):
     bpy.ops.ed.undo_push(message="before")
     matrices = [o.matrix_world.copy() for o in (a, b)]
     assert bpy.ops.bdinterp.mesh_from_image('EXEC_DEFAULT', True, preset="BENDS") == {'FINISHED'}
+    from bdinterp_blender.files import sprite_mesh
     bd = addon.load_core()
-    for name, sprite in (("Ring", "ring"), ("Letter", "letter_b")):
+    for name in ("Ring", "Letter"):
         obj = bpy.data.objects[name]
         assert obj.matrix_world == matrices[0 if name == "Ring" else 1]
         assert obj.data.materials[0].name == name
@@ -63,8 +64,11 @@ def test_two_planes_one_undo_step(addon):
         vi = np.empty(len(obj.data.loops), np.int64)
         obj.data.loops.foreach_get("vertex_index", vi)
         np.testing.assert_allclose(uv.reshape(-1, 2) * 2 - 1, co[vi, :2], atol=1e-5)
-        # The same mesh as the core makes from the image's alpha (128 x 128: scale 2 / 128 per pixel).
-        expected = bd.mesh_from_image(SPRITES[sprite](), spacing=128 / 12, detail=1.0, min_angle=25.0)
+        # The same mesh as the core makes from the image's alpha as Blender holds it (8 bits a
+        # channel: the sprite's box at the threshold, and so the spacing, is that image's).
+        alpha = sprite_mesh.alpha_of(sprite_mesh.image_of(obj))
+        expected = bd.mesh_from_image(alpha, spacing_divisions=12, detail=1.0,
+                                      min_angle=25.0)  # the BENDS preset
         assert len(obj.data.vertices) == len(expected.vertices)
     bpy.ops.ed.undo()  # one step restores both quads
     assert [len(bpy.data.objects[n].data.vertices) for n in ("Ring", "Letter")] == [4, 4]
@@ -90,3 +94,17 @@ def test_panel_and_menu(addon):
     assert any(getattr(f, "__name__", "") == "_menu" for f in bpy.types.VIEW3D_MT_object._dyn_ui_initialize())
     obj.shape_key_add(name="Basis")
     assert not panel.poll(bpy.context)  # a mesh with keys is past this step
+
+
+def test_spacing_0_is_said_in_words(addon):
+    from bdinterp_blender.files import sprite_mesh
+    assert sprite_mesh.spacing_zero("CUSTOM", None) == "0: automatic"
+    assert sprite_mesh.spacing_zero("BENDS", None) == "0: from the preset (12 edges across)"
+    image = bpy.data.images.new("sheet", 240, 96, alpha=True)
+    mat = bpy.data.materials.new("m")
+    mat.use_nodes = True
+    mat.node_tree.nodes.new("ShaderNodeTexImage").image = image
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.object.data.materials.append(mat)
+    assert sprite_mesh.spacing_zero("FACE", bpy.context.object) == \
+        "0: from the preset (24 edges across = 10 px)"

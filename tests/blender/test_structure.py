@@ -8,8 +8,10 @@ from conftest import ROOT
 
 FOLDER = os.path.join(ROOT, "addon", "bdinterp_blender")
 # The subpackages' layers; the base modules (core, names, actions, timing) are layer 0 and api a
-# layer of its own. Within one subpackage a module imports only those listed before it in MODULES.
-LAYER = {"": 0, "shapes": 1, "files": 2, "bake": 2, "view": 3, "api": 4, "ui": 5, "__init__": 6}
+# layer of its own (strokes beside it: neither imports the other). Within one subpackage a module
+# imports only those listed before it in MODULES.
+LAYER = {"": 0, "shapes": 1, "files": 2, "keys": 2, "view": 3, "params": 3, "api": 4, "strokes": 4,
+         "ui": 5, "__init__": 6}
 
 
 def modules_in_order():

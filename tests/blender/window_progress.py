@@ -104,9 +104,8 @@ def torn(objs, window, area, main):
 
 
 def bdi_torn_report(objs):
-    import importlib
     import bdinterp_blender
-    posing = importlib.import_module(bdinterp_blender.__name__ + ".bake.posing")  # see test_posing
+    from bdinterp_blender.keys import posing
     return posing.describe(bdinterp_blender.torn_joints(objs, "Pose"))
 
 

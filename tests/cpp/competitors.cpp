@@ -8,7 +8,7 @@
 #include <string>
 
 #ifdef _WIN32
-#include "detail/windows.h"
+#include "parallel/windows.h"
 #else
 #include <signal.h>
 #include <sys/wait.h>

@@ -6,15 +6,15 @@
 #include <cmath>
 #include <utility>
 
-#include "anchor_frame.h"
+#include "place/anchor_frame.h"
 #include "bdinterp/interpolator.h"
-#include "rigid_motion.h"
+#include "place/rigid_motion.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
 
-constexpr double kDeg = 3.14159265358979323846 / 180;
+constexpr double kDeg = bdinterp::kPi / 180;
 
 Eigen::Vector2d turned(const Eigen::Vector2d& p, double angle, const Eigen::Vector2d& pivot) {
   return Eigen::Rotation2Dd(angle) * (p - pivot) + pivot;
@@ -32,8 +32,8 @@ TEST(RigidMotion, LogThenExpIsTheMotion) {
     EXPECT_LT((back.shift - m.shift).norm(), 1e-14) << a;
   }
   // A whole turn that moves has no logarithm; one that does not move has (0 shift).
-  EXPECT_THROW(log_motion(RigidMotion{2 * 3.14159265358979323846, Eigen::Vector2d(1, 0)}), InvalidInput);
-  EXPECT_EQ(log_motion(RigidMotion{4 * 3.14159265358979323846, Eigen::Vector2d::Zero()}).v.norm(), 0.0);
+  EXPECT_THROW(log_motion(RigidMotion{2 * bdinterp::kPi, Eigen::Vector2d(1, 0)}), InvalidInput);
+  EXPECT_EQ(log_motion(RigidMotion{4 * bdinterp::kPi, Eigen::Vector2d::Zero()}).v.norm(), 0.0);
 }
 
 TEST(RigidMotion, TwoKeysTurnAboutTheFixedPoint) {

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "bdinterp/interpolator.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

@@ -3,9 +3,9 @@
 #include <Eigen/Dense>
 #include <random>
 
-#include "flatten.h"
-#include "metric_blend.h"
-#include "detail/flatten_energy.h"
+#include "flatten/flatten.h"
+#include "blend/metric_blend.h"
+#include "flatten/flatten_energy.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -122,7 +122,7 @@ TEST(Flatten, AngleSumsAtAVertexOfValence400) {
   Faces F(kRing, 3);
   V.row(0) << 0, 0;
   for (int k = 0; k < kRing; ++k) {
-    const double a = 2 * 3.14159265358979323846 * k / kRing, r = 1 + 0.3 * std::sin(3 * a);
+    const double a = 2 * bdinterp::kPi * k / kRing, r = 1 + 0.3 * std::sin(3 * a);
     V.row(k + 1) << r * std::cos(a), r * std::sin(a);
     F.row(k) << 0, k + 1, (k + 1) % kRing + 1;
   }

@@ -5,10 +5,10 @@
 #include <algorithm>
 #include <cmath>
 
-#include "folds.h"
-#include "geometry.h"
+#include "folds/folds.h"
+#include "mesh/geometry.h"
 #include "bdinterp/interpolator.h"
-#include "detail/fold_fill.h"
+#include "folds/fold_fill.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

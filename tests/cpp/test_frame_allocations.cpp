@@ -88,7 +88,7 @@ TEST(FrameAllocations, AWarmFrameOfAHoledPieceAllocatesNoLargeBlock) {
 #else
   // An annulus of 2624 vertices bent both ways (no fold: areas change by less than 1.6x).
   const Pair p = pair_of(testing::annulus(40, 64), [](const Eigen::Vector2d& q) {
-    return Eigen::Vector2d(q.x() + 0.15 * std::sin(3.14159 * q.y()), q.y() + 0.3 * std::sin(3.14159 * q.x()));
+    return Eigen::Vector2d(q.x() + 0.15 * std::sin(bdinterp::kPi * q.y()), q.y() + 0.3 * std::sin(bdinterp::kPi * q.x()));
   });
   FrameStats stats;
   EXPECT_GE(check_warm_frames(p, stats), 5);  // 1d9d512's parent: 2-4 blocks a frame (the closure's #V vectors)

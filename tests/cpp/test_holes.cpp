@@ -10,18 +10,17 @@
 #include <random>
 #include <vector>
 
-#include "detail/warm_start.h"
-#include "flatten.h"
-#include "holes.h"
-#include "layout.h"
-#include "metric_blend.h"
-#include "parallel.h"
+#include "flatten/warm_start.h"
+#include "flatten/flatten.h"
+#include "flatten/holes.h"
+#include "layout/layout.h"
+#include "blend/metric_blend.h"
+#include "parallel/parallel.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
 namespace {
-constexpr double kPi = 3.14159265358979323846;
 
 using Annulus = testing::TestMesh;
 using testing::annulus;

@@ -2,12 +2,12 @@
 
 #include <Eigen/Dense>
 
-#include "anchor_frame.h"
+#include "place/anchor_frame.h"
 #include "bdinterp/baselines.h"
 #include "bdinterp/distortion.h"
 #include "bdinterp/interpolator.h"
-#include "metric_blend.h"
-#include "parallel.h"
+#include "blend/metric_blend.h"
+#include "parallel/parallel.h"
 #include "test_meshes.h"
 
 namespace bdinterp {
@@ -90,7 +90,7 @@ TEST(Interpolator, LargeRotationTurnsHalfWayAtHalfTime) {
   // have turned by about half (not the short way round).
   const auto m = testing::jittered_grid(60, 4, 1.0, 0.08, 9);
   const Positions curled =
-      testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 1.6 * M_PI, 0.04); });
+      testing::apply(m.V, [](Eigen::Vector2d p) { return testing::bend(p, 1.6 * bdinterp::kPi, 0.04); });
   Interpolator I({m.V, curled}, m.F);
   const Mesh mesh(m.F, static_cast<int>(m.V.rows()));
   const AnchorFrame frame(mesh, m.V, -1);
@@ -105,7 +105,7 @@ TEST(Interpolator, LargeRotationTurnsHalfWayAtHalfTime) {
     if (x > m.V(m.F(right, 0), 0)) right = f;
   }
   const double full = rot1[right] - rot1[left], half = rot_half[right] - rot_half[left];
-  EXPECT_GT(full, 1.5 * M_PI);
+  EXPECT_GT(full, 1.5 * bdinterp::kPi);
   EXPECT_NEAR(half / full, 0.5, 0.05);
   // Continuity in t: a small step moves every face's rotation a little.
   EXPECT_LT((rot_next - rot_half).cwiseAbs().maxCoeff(), 0.1);
@@ -128,7 +128,7 @@ TEST(Interpolator, PiecesAndIsolatedVerticesAreHandledSeparately) {
   // Second piece: rigidly rotated by 90 degrees, so at t = 0.5 it is rotated by 45 degrees.
   const Positions second = X.middleRows(n, n);
   const Eigen::RowVector2d c = second.colwise().mean();
-  const Eigen::Matrix2d R45 = Eigen::Rotation2Dd(M_PI / 4).toRotationMatrix();
+  const Eigen::Matrix2d R45 = Eigen::Rotation2Dd(bdinterp::kPi / 4).toRotationMatrix();
   const Eigen::RowVector2d c0 = a.V.colwise().mean();
   const Positions expected = ((a.V.rowwise() - c0) * R45.transpose()).rowwise() + c;
   EXPECT_LT(max_abs(second - expected), 1e-9);

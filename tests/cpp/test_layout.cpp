@@ -1,8 +1,8 @@
 #include <gtest/gtest.h>
 
-#include "flatten.h"
-#include "layout.h"
-#include "metric_blend.h"
+#include "flatten/flatten.h"
+#include "layout/layout.h"
+#include "blend/metric_blend.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <thread>
 
-#include "parallel.h"
+#include "parallel/parallel.h"
 
 namespace bdinterp {
 namespace {

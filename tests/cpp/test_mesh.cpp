@@ -4,7 +4,7 @@
 #include <vector>
 
 #include "bdinterp/interpolator.h"
-#include "mesh.h"
+#include "mesh/mesh.h"
 #include "test_checks.h"
 #include "test_meshes.h"
 

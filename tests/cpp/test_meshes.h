@@ -56,7 +56,7 @@ inline TestMesh jittered_grid(int nx, int ny, double w = 1.0, double h = 1.0, un
 // An annulus: nr rings of nt cells between radii 0.4 and 1, interior vertices jittered, random
 // diagonals; counter-clockwise faces.
 inline TestMesh annulus(int nr, int nt, unsigned seed = 3) {
-  const double pi = 3.14159265358979323846;
+  const double pi = bdinterp::kPi;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<double> jitter(-0.2, 0.2);
   TestMesh a;

@@ -24,7 +24,7 @@
 #include <thread>
 #include <vector>
 
-#include "parallel.h"
+#include "parallel/parallel.h"
 #include "competitors.h"
 
 namespace bdinterp {

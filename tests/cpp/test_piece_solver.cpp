@@ -1,12 +1,12 @@
-// The Interpolator's stages: a piece solved by its kind (disk or holed; cpp/src/piece_solver.h) and
+// The Interpolator's stages: a piece solved by its kind (disk or holed; cpp/src/pipeline/piece_solver.h) and
 // frames() on the pool (contiguous chunks, errors of any chunk raised on the caller).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
 
-#include "piece_solver.h"
+#include "pipeline/piece_solver.h"
 #include "bdinterp/interpolator.h"
-#include "metric_blend.h"
+#include "blend/metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

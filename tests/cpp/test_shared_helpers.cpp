@@ -6,9 +6,9 @@
 #include <cmath>
 #include <vector>
 
-#include "detail/turns.h"
-#include "geometry.h"
-#include "sparse_cholesky.h"
+#include "mesh/turns.h"
+#include "mesh/geometry.h"
+#include "linalg/sparse_cholesky.h"
 #include "test_checks.h"
 
 namespace bdinterp {

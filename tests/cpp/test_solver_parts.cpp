@@ -6,11 +6,11 @@
 #include <random>
 #include <thread>
 
-#include "detail/refactor_policy.h"
-#include "detail/turns.h"
-#include "detail/warm_start.h"
-#include "flatten.h"
-#include "metric_blend.h"
+#include "flatten/refactor_policy.h"
+#include "mesh/turns.h"
+#include "flatten/warm_start.h"
+#include "flatten/flatten.h"
+#include "blend/metric_blend.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

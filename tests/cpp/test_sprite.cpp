@@ -12,7 +12,6 @@
 namespace bdinterp {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 // Alpha of an annulus (radii r0 < r1) about the image's centre, antialiased by 8 x 8 sub-samples.
 AlphaImage annulus(int size, double r0, double r1) {

@@ -7,9 +7,9 @@
 #include <functional>
 #include <random>
 
-#include "detail/tree_solve.h"
-#include "parallel.h"
-#include "sparse_cholesky.h"
+#include "linalg/tree_solve.h"
+#include "parallel/parallel.h"
+#include "linalg/sparse_cholesky.h"
 #include "test_meshes.h"
 
 namespace bdinterp {

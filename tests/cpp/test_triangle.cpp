@@ -3,7 +3,7 @@
 #include <cmath>
 #include <random>
 
-#include "triangle.h"
+#include "mesh/triangle.h"
 
 namespace bdinterp {
 namespace {
@@ -32,8 +32,8 @@ TEST(Triangle, AnglesAndCotangentsOfKnownTriangles) {
   double angle[3], cot[3];
   const double right[3] = {2.0, 1.0, 1.0};  // legs 1, 1, hypotenuse sqrt 2 opposite corner 0
   EXPECT_FALSE(triangle_angles(right, angle, cot));
-  EXPECT_NEAR(angle[0], M_PI / 2, 1e-15);
-  EXPECT_NEAR(angle[1], M_PI / 4, 1e-15);
+  EXPECT_NEAR(angle[0], bdinterp::kPi / 2, 1e-15);
+  EXPECT_NEAR(angle[1], bdinterp::kPi / 4, 1e-15);
   EXPECT_NEAR(cot[0], 0.0, 1e-15);
   EXPECT_NEAR(cot[1], 1.0, 1e-15);
   // A needle: angles from the law of cosines lose accuracy here; the half-angle formula does not.
@@ -41,14 +41,14 @@ TEST(Triangle, AnglesAndCotangentsOfKnownTriangles) {
   const double needle[3] = {a * a, b * b, b * b};
   EXPECT_FALSE(triangle_angles(needle, angle));
   EXPECT_NEAR(angle[0], 2 * std::asin(a / (2 * b)), 1e-22);
-  EXPECT_NEAR(angle[0] + angle[1] + angle[2], M_PI, 1e-15);
+  EXPECT_NEAR(angle[0] + angle[1] + angle[2], bdinterp::kPi, 1e-15);
 }
 
 TEST(Triangle, BrokenTriplesGetPiZeroZero) {
   double angle[3], cot[3];
   const double broken[3] = {1.0, 9.0, 1.0};  // 3 > 1 + 1
   EXPECT_TRUE(triangle_angles(broken, angle, cot));
-  EXPECT_EQ(angle[1], M_PI);
+  EXPECT_EQ(angle[1], bdinterp::kPi);
   EXPECT_EQ(angle[0], 0.0);
   EXPECT_EQ(cot[0] + cot[1] + cot[2], 0.0);
   EXPECT_TRUE(triangle_cotangents(broken, cot));

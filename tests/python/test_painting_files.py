@@ -61,8 +61,8 @@ def test_a_missing_layer_image_is_named_with_single_quotes(reader, tmp_path):
                 dst.writestr(item, src.read(item))
     with pytest.raises(ValueError) as e:
         reader.read_painting(str(broken))
-    assert re.fullmatch(r"'.*broken\.ora': the image 'data/forearm_r\.png' of layer 'forearm_r' "
-                        r"is missing from the file", str(e.value)), str(e.value)
+    assert re.fullmatch(r"'.*broken\.ora': layer 'forearm_r': its image 'data/forearm_r\.png' "
+                        r"is missing", str(e.value)), str(e.value)
     assert "''" not in str(e.value)
 
 

@@ -105,6 +105,16 @@ def test_y_up_and_default_spacing():
     lo, hi = mesh.vertices.min(0), mesh.vertices.max(0)
     np.testing.assert_allclose([lo[0], hi[0], lo[1], hi[1]], [20, 80, 60, 90], atol=1e-6)
     assert mesh.spacing == pytest.approx(60 / 12)  # a twelfth of the larger side of the sprite
+    coarse = bdinterp.mesh_from_image(image, padding=0.0, detail=0.25, spacing_divisions=4)
+    assert coarse.spacing == pytest.approx(60 / 4) and len(coarse.faces) < len(mesh.faces)
+    assert bdinterp.mesh_from_image(image, padding=0.0, spacing=7.0).spacing == 7.0
+
+
+def test_options_are_the_cores_with_its_defaults():
+    """One definition of the options: the C++ struct's, defaults included (docs/SPRITES.md)."""
+    o = bdinterp.SpriteMeshOptions()
+    assert (o.threshold, o.spacing, o.spacing_divisions, o.detail, o.padding, o.min_angle,
+            o.min_area) == (0.5, 0.0, 12.0, 1.0, 1.0, 20.0, 4.0)
 
 
 def test_ring_area_analytic():
@@ -159,6 +169,9 @@ def test_bent_sprite_bakes_within_target_distortion():
     (np.ones((8, 8), np.float32), {"threshold": 1.5}, "threshold must lie in"),
     (np.ones((8, 8), np.float32), {"spacing": -2.0}, "spacing must be a positive"),
     (np.ones((8, 8), np.float32), {"min_angle": 40.0}, "min_angle must lie in"),
+    (np.ones((8, 8), np.float32), {"spacing_divisions": 0.5}, "spacing_divisions must be >= 1"),
+    (np.ones((8, 8), np.float32), {"spacng": 3.0}, "unknown option spacng"),
+    (np.ones((8, 8), np.float32), {"threshold": "high"}, "threshold must be a number"),
     (np.ones((8, 8, 3), np.float32), {}, "shape (8, 8, 3)"),
 ])
 def test_bad_input(image, kwargs, message):

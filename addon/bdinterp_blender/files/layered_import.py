@@ -83,7 +83,8 @@ def _piece(bd, layer, image, params):
     V = mesh.vertices  # pixels in the frame, y up from its bottom
     co = np.c_[(layer.x + V[:, 0]), np.zeros(len(V)), -(layer.y + th - V[:, 1])]
     uvs = (V + [left, h - top - th]) / [w, h]
-    return co, mesh.faces, uvs, (layer.x, layer.y, alpha >= params.get("threshold", 0.5))
+    mask = alpha >= params.get("threshold", 0.5)
+    return co, mesh.faces, uvs, (int(round(layer.x)), int(round(layer.y)), mask)
 
 
 def _plans(path, scale, params):
@@ -125,9 +126,7 @@ def _object(name, parts, origin=(0.0, 0.0, 0.0)):
     faces = np.concatenate([p[2] + o for p, o in zip(parts, offsets)])
     uvs = np.concatenate([p[3] for p in parts])
     me = bpy.data.meshes.new(name)
-    me.from_pydata(co.tolist(), [], faces.tolist())
-    layer = me.uv_layers.new(name="UVMap")
-    layer.data.foreach_set("uv", uvs[faces.reshape(-1)].astype(np.float32).ravel())
+    sprite_mesh.fill(me, co, faces, uvs)
     for p in parts:
         me.materials.append(p[0])
     me.polygons.foreach_set("material_index", np.repeat(np.arange(len(parts)), [len(p[2]) for p in parts]))

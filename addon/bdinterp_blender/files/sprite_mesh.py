@@ -6,14 +6,14 @@ import bpy
 
 from ..core import load_core
 
-# Presets: (label, description, parameters); spacing is a fraction of the sprite's larger side.
+# Presets: (label, description, parameters); spacing_divisions: edges across the sprite's larger side.
 PRESETS = {
     "RIGID": ("A rigid part", "Few triangles: a part that moves but hardly bends",
-              dict(spacing_fraction=1 / 4, detail=1.5, min_angle=20.0)),
+              dict(spacing_divisions=4, detail=1.5, min_angle=20.0)),
     "BENDS": ("A part that bends", "About twelve triangles across: arms, tails, hair",
-              dict(spacing_fraction=1 / 12, detail=1.0, min_angle=25.0)),
+              dict(spacing_divisions=12, detail=1.0, min_angle=25.0)),
     "FACE": ("A face", "Fine and even triangles for expressions",
-             dict(spacing_fraction=1 / 24, detail=0.5, min_angle=28.0)),
+             dict(spacing_divisions=24, detail=0.5, min_angle=28.0)),
 }
 
 
@@ -76,15 +76,20 @@ def plan(obj, **params):
     return local, mesh.faces, mesh.uvs
 
 
-def write(obj, local, faces, uvs):
-    """Replaces obj's geometry in place (its materials, name and users kept), UVs onto the image."""
+def fill(me, co, faces, uvs):
+    """Mesh `me` (empty) made of vertices co (n, 3), triangles faces (m, 3) and per-vertex uvs
+    (n, 2) in the layer 'UVMap'; the caller calls me.update() after its own additions."""
     import numpy as np  # heavy: imported when used
-    me = obj.data
-    me.clear_geometry()
-    me.from_pydata(local.tolist(), [], faces.tolist())
+    me.from_pydata(co.tolist(), [], faces.tolist())
     layer = me.uv_layers.new(name="UVMap")
     layer.data.foreach_set("uv", uvs[faces.reshape(-1)].astype(np.float32).ravel())
-    me.update()
+
+
+def write(obj, local, faces, uvs):
+    """Replaces obj's geometry in place (its materials, name and users kept), UVs onto the image."""
+    obj.data.clear_geometry()
+    fill(obj.data, local, faces, uvs)
+    obj.data.update()
 
 
 def mesh_from_image(objs, **params):
@@ -99,13 +104,24 @@ def mesh_from_image(objs, **params):
 
 
 def params_of(op, obj):
-    """The operator's parameters as mesh_from_image's keywords (spacing from the preset's fraction
-    of obj's image size when the operator's spacing is 0)."""
-    spacing = op.spacing if op.spacing > 0 else None
-    if spacing is None and op.preset in PRESETS and obj is not None and image_of(obj) is not None:
-        spacing = max(2.0, max(image_of(obj).size) * PRESETS[op.preset][2]["spacing_fraction"])
-    return dict(threshold=op.threshold, spacing=spacing, detail=op.detail, padding=op.padding,
-                min_angle=op.min_angle)
+    """The operator's parameters as mesh_from_image's keywords: spacing 0 is the sprite's larger
+    side over the preset's spacing_divisions (the core's own default for Custom)."""
+    params = dict(threshold=op.threshold, spacing=op.spacing, detail=op.detail,
+                  padding=op.padding, min_angle=op.min_angle)
+    if op.spacing == 0 and op.preset in PRESETS:
+        params["spacing_divisions"] = PRESETS[op.preset][2]["spacing_divisions"]
+    return params
+
+
+def spacing_zero(preset, obj):
+    """What Spacing 0 means, in words: the preset's edges across the sprite (in pixels for obj's
+    image), or automatic (Custom: the core's default)."""
+    if preset not in PRESETS:
+        return "0: automatic"
+    divisions = PRESETS[preset][2]["spacing_divisions"]
+    image = image_of(obj) if obj is not None and obj.type == 'MESH' else None
+    size = " = %.0f px" % (max(image.size) / divisions) if image is not None else ""
+    return "0: from the preset (%d edges across%s)" % (divisions, size)
 
 
 def _apply_preset(self, context):
@@ -143,9 +159,7 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
         for name in ("preset", "threshold", "spacing", "detail", "padding", "min_angle"):
             self.layout.prop(self, name)
             if name == "spacing" and self.spacing == 0:  # say what 0 means, not only "0.00"
-                spacing = params_of(self, obj)["spacing"] if obj is not None else None
-                self.layout.label(text="0: from the preset" + (" (%.0f px)" % spacing if spacing
-                                                                else ""), icon='INFO')
+                self.layout.label(text=spacing_zero(self.preset, obj), icon='INFO')
         try:  # the triangle count before applying (the active object's)
             count = len(plan(obj, **params_of(self, obj))[1])
             self.layout.label(text="%s: %d triangles" % (obj.name, count))

@@ -49,13 +49,21 @@ class Inputs:
         read = [mesh_io.read_shown(obj, kb, r) for kb, r in zip(blocks, self.raw)]
         self.source_read = read[0]  # as read, before layering: the bones' pins are mapped onto it
         self.layers, self.shapes = None, read
-        if layered:
-            self.shapes = self.layered(read, settings.planarity)
-        self.anchor = resolve_anchor(obj, anchor, settings.path_object() if layered else None,
-                                     len(self.others))
-        self.joints, self.joint_source = self.find_joints([rig.Member(
-            obj, 0, self.source_read, lambda p: p, self.reference_shape)]) \
-            if layered else (False, "")
+        if not layered:
+            self.anchor = resolve_anchor(obj, anchor, None, len(self.others))
+            self.joints, self.joint_source = False, ""
+            return
+        self.complete(read, settings, resolve_anchor(obj, anchor, settings.path_object(),
+                                                     len(self.others)),
+                      [rig.Member(obj, 0, self.source_read, lambda p: p, self.reference_shape)])
+
+    def complete(self, shapes, settings, anchor, members):
+        """The steps after reading: `shapes` put into their pieces' planes, the resolved `anchor`
+        kept, the joints found for `members` (rig.Member) under settings.joints."""
+        self.shapes = self.layered(shapes, settings.planarity)
+        self.anchor = anchor
+        self.joint_mode = settings.joints
+        self.joints, self.joint_source = self.find_joints(members)
 
     def find_joints(self, members):
         """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints)."""

@@ -10,9 +10,9 @@ import bpy
 from bpy.props import EnumProperty, IntProperty
 
 from .. import api
-from ..bake.character import selected_meshes
+from ..keys.character import selected_meshes
 from ..shapes.settings import CURVE_NODE, from_props
-from ..bake import posing
+from ..keys import posing
 
 
 def settings_for(props, objs=None):
@@ -29,14 +29,16 @@ def settings_for(props, objs=None):
 class StepThread:
     """A job's steps (job.step()) on a thread of their own, one at a time, so that the window keeps
     drawing and Esc is answered while a step computes (the core releases the GIL). A cancelled
-    job's step in flight ends on its own; its frames are dropped."""
+    job's step in flight ends on its own; its frames are dropped. A step that fails, with an
+    exception of any type, ends the job: from then on poll() raises that exception and starts no
+    further step."""
 
     def __init__(self, job):
         self.job, self.thread, self.error = job, None, None
 
     def poll(self):
         """True once every step is done; else starts the next step when none runs. Raises the
-        error of a step that failed."""
+        error of a step that failed (every call after the failure)."""
         if self.thread is not None and self.thread.is_alive():
             return False
         if self.error is not None:
@@ -50,11 +52,19 @@ class StepThread:
     def _step(self):
         try:
             self.job.step()
-        except (ValueError, RuntimeError) as exc:  # reported by poll() on the main thread
+        except BaseException as exc:  # noqa: BLE001 -- any type: reported by poll() on the main thread
             self.error = exc
 
 
-class _ObjectOperator:
+def failure(exc):
+    """What an error says to the user: its message, with its type unless it is one of the
+    add-on's expected ones (BakeError, the core's ValueError and SolverError)."""
+    if isinstance(exc, (ValueError, RuntimeError)):
+        return str(exc)
+    return "%s: %s" % (type(exc).__name__, exc)
+
+
+class ObjectOperator:
     bl_options = {'REGISTER', 'UNDO'}
 
     @classmethod
@@ -98,7 +108,7 @@ def _show_progress(context, done, total):
                 area.tag_redraw()
 
 
-class _Bake(_ObjectOperator):
+class _Bake(ObjectOperator):
     """A bake of self.job(context): all at once from scripts, or from the UI on a thread with
     progress and Esc, after asking when the pose tears joints apart (unless confirmed)."""
     confirmed: bpy.props.BoolProperty(name="Torn joints confirmed", options={'HIDDEN', 'SKIP_SAVE'})
@@ -108,8 +118,7 @@ class _Bake(_ObjectOperator):
         job = self.job(context)
         wm.progress_begin(0, job.total)
         try:
-            while not job.finished:
-                wm.progress_update(job.step())
+            api.run(job, lambda done, total: wm.progress_update(done))
             return job.finish().message
         finally:
             wm.progress_end()
@@ -159,9 +168,9 @@ class _Bake(_ObjectOperator):
             if not done:
                 return {'RUNNING_MODAL'}
             message = self._job.finish().message
-        except (ValueError, RuntimeError) as exc:
+        except Exception as exc:  # noqa: BLE001 -- a step's error of any type ends the bake, said once
             self._stop(context)
-            self.report({'ERROR'}, str(exc))
+            self.report({'ERROR'}, failure(exc))
             return {'CANCELLED'}
         self._stop(context)
         self.report({'INFO'}, message)
@@ -197,7 +206,7 @@ class BDINTERP_OT_rebake(_Bake, bpy.types.Operator):
     slider: bpy.props.StringProperty(name="Slider")
 
     def job(self, context):
-        from ..bake import playback
+        from ..keys import playback
         owner = bpy.data.objects.get(self.owner)
         record = playback.records(owner).get(self.slider) if owner is not None else None
         if record is None:
@@ -210,7 +219,7 @@ class BDINTERP_OT_rebake(_Bake, bpy.types.Operator):
         return api.job_of(objs, settings)
 
 
-class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_bake_live(ObjectOperator, bpy.types.Operator):
     """Turn live mode into baked in-between keys and a playback slider animated like the live
     factor, so that the file plays and renders without the add-on"""
     bl_idname = "bdinterp.bake_live"
@@ -220,7 +229,7 @@ class BDINTERP_OT_bake_live(_ObjectOperator, bpy.types.Operator):
         return api.bake_live(obj).message
 
 
-class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_clear(ObjectOperator, bpy.types.Operator):
     """Remove the baked in-betweens of the source and target keys, their drivers and slider
     (of every selected object that has the target key, as the bake made them)"""
     bl_idname = "bdinterp.clear"
@@ -231,7 +240,7 @@ class BDINTERP_OT_clear(_ObjectOperator, bpy.types.Operator):
         return "Removed %d baked keys" % len(removed)
 
 
-class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_blend(ObjectOperator, bpy.types.Operator):
     """Bake a bounded-distortion blend of the pose keys with their weights into one key"""
     bl_idname = "bdinterp.blend"
     bl_label = "Bake Pose Blend"
@@ -244,7 +253,7 @@ class BDINTERP_OT_blend(_ObjectOperator, bpy.types.Operator):
         return "Baked %s: max distortion %.4g (poses %.4g)" % (name, k_out, k_in)
 
 
-class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_add(ObjectOperator, bpy.types.Operator):
     """Add the active shape key to the poses to blend"""
     bl_idname = "bdinterp.pose_add"
     bl_label = "Add Pose to Blend"
@@ -258,7 +267,7 @@ class BDINTERP_OT_pose_add(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_pose_remove(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_pose_remove(ObjectOperator, bpy.types.Operator):
     """Remove this pose from the blend"""
     bl_idname = "bdinterp.pose_remove"
     bl_label = "Remove Pose"
@@ -271,7 +280,7 @@ class BDINTERP_OT_pose_remove(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_anchor_from_selection(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_anchor_from_selection(ObjectOperator, bpy.types.Operator):
     """Anchor the interpolation at the active (or first) selected vertex"""
     bl_idname = "bdinterp.anchor_from_selection"
     bl_label = "Use Selected Vertex"
@@ -301,7 +310,7 @@ def selected_vertex(obj):
     return next((v.index for v in obj.data.vertices if v.select), None)
 
 
-class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_distortion(ObjectOperator, bpy.types.Operator):
     """Show the per-face conformal distortion of the active baked or live key as colours"""
     bl_idname = "bdinterp.distortion"
     bl_label = "Distortion View"
@@ -316,7 +325,7 @@ class BDINTERP_OT_distortion(_ObjectOperator, bpy.types.Operator):
         return "Distortion of %s: max %.4g" % (obj.active_shape_key.name, float(k.max()))
 
 
-class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_easing_curve_new(ObjectOperator, bpy.types.Operator):
     """Create a custom easing curve (x: slider position, y: interpolation factor)"""
     bl_idname = "bdinterp.easing_curve_new"
     bl_label = "New Curve"
@@ -328,7 +337,7 @@ class BDINTERP_OT_easing_curve_new(_ObjectOperator, bpy.types.Operator):
         return None
 
 
-class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_bake_export(ObjectOperator, bpy.types.Operator):
     """Write what the playback slider shows at every frame of the scene's range as keyframes on
     the baked keys (drivers muted), so that glTF, FBX and Alembic exports play the in-betweens"""
     bl_idname = "bdinterp.bake_export"
@@ -338,7 +347,7 @@ class BDINTERP_OT_bake_export(_ObjectOperator, bpy.types.Operator):
         return api.bake_for_export(export_objects(context))
 
 
-class BDINTERP_OT_remove_export(_ObjectOperator, bpy.types.Operator):
+class BDINTERP_OT_remove_export(ObjectOperator, bpy.types.Operator):
     """Remove the keyframes of Bake for Export and let the playback slider drive the keys again"""
     bl_idname = "bdinterp.remove_export"
     bl_label = "Remove Export Bake"

@@ -35,7 +35,7 @@ def _source_name(obj):
 
 
 def _bake_of(obj):
-    from ..bake import playback
+    from ..keys import playback
     if not obj.bdi.target or obj.data.shape_keys.key_blocks.get(_source_name(obj)) is None:
         return None
     return playback.find(obj, _source_name(obj), obj.bdi.target)
@@ -138,7 +138,7 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
 
 def draw_export(layout, obj):
     """Bake for Export, or its removal where the keys carry an export bake."""
-    from ..bake.export import EXPORT_PROP
+    from ..keys.export import EXPORT_PROP
     row = layout.row(align=True)
     row.operator("bdinterp.bake_export", icon='EXPORT')
     if obj.get(EXPORT_PROP) is not None:
@@ -148,7 +148,7 @@ def draw_export(layout, obj):
 def character_size(context, obj):
     """How many mesh objects a bake solves together: the active one and the selected ones that
     have the target key."""
-    from ..bake.character import members, selected_meshes
+    from ..keys.character import members, selected_meshes
     return len(members(selected_meshes(context, obj), obj.bdi.target))
 
 
@@ -175,7 +175,7 @@ def draw_bake(layout, context, obj):
 
 def draw_stale(layout, obj, found, owner, width):
     """'Stale' naming the objects whose keys changed since the bake, with Bake Again."""
-    from ..bake.playback import stale_members
+    from ..keys.playback import stale_members
     stale = stale_members(obj, found)
     if not stale:
         return
@@ -322,11 +322,6 @@ class BDINTERP_PT_view(_Panel, bpy.types.Panel):
 PANELS = (BDINTERP_PT_main, BDINTERP_PT_inbetweens, BDINTERP_PT_expert, BDINTERP_PT_poses,
           BDINTERP_PT_live, BDINTERP_PT_distortion, BDINTERP_PT_view)
 CLASSES = PANELS + (BDINTERP_AP_preferences,)
-ICONS = ('ERROR', 'INFO', 'BLANK1', 'TIME', 'FILE_REFRESH', 'ADD', 'X', 'TRASH', 'SHAPEKEY_DATA', 'RESTRICT_SELECT_OFF',
-         'MOD_WARP', 'CHECKMARK', 'EXPORT', 'ONIONSKIN_ON', 'ONIONSKIN_OFF', 'IPO_BEZIER',
-         'GREASEPENCIL')  # every icon used above
-
-
 class degraded:
     """Registered instead of everything else when the core cannot load: explains why."""
     register, unregister = bpy.utils.register_classes_factory((BDINTERP_PT_main, BDINTERP_AP_preferences))

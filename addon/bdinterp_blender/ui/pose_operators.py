@@ -6,7 +6,7 @@ import textwrap
 import bpy
 
 from .. import api
-from ..bake.character import selected_meshes
+from ..keys.character import selected_meshes
 
 
 class BDINTERP_OT_confirm_torn(bpy.types.Operator):

@@ -28,12 +28,12 @@ METHOD_ITEMS = [
 
 
 def _live_changed(self, context):
-    from ..bake import live
+    from ..keys import live
     live.on_property_change(self.id_data)
 
 
 def _live_toggled(self, context):
-    from ..bake import live
+    from ..keys import live
     live.on_toggle(self.id_data)
 
 

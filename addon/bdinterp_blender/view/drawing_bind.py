@@ -13,7 +13,7 @@ back.  Everything is stored in point attributes of the drawings, so a saved file
 import bpy
 from bpy.app.handlers import persistent
 
-from ..bake.character import members, to_local, to_world
+from ..keys.character import members, to_local, to_world
 from ..shapes.mesh_io import BakeError, triangles
 
 BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh objects' names

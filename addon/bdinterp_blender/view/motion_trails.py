@@ -5,7 +5,7 @@ one object or a cut-out character of several objects solved as one (as a bake so
 Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this computes.
 """
 
-from ..bake import character, playback
+from ..keys import character, playback
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..shapes.settings import BakeSettings, from_props

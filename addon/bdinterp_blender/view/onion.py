@@ -4,7 +4,9 @@ What is drawn is computed once (Ghosts: world coordinates of the ghost shapes, t
 ticks at the baked keys) and kept in GPU batches (overlay.py); a redraw compares a cheap request
 key (objects, settings, transforms, an epoch bumped when the input or baked keys' data change)
 and only recolours.  The depsgraph handler re-reads key data only when Blender reports a shape key
-edited, so playback and live mode never pay for it.
+edited, so playback and live mode never pay for it.  An error while computing the ghosts is shown
+in the panel; one elsewhere in a redraw or the handler is printed once and the overlay leaves that
+object alone until a view setting changes or a file is loaded (no error repeats every redraw).
 """
 
 import hashlib
@@ -21,6 +23,7 @@ from ..names import LIVE_KEY, SEP
 
 
 def _redraw(self=None, context=None):
+    _failed.clear()  # a view setting changed: try the objects that failed again
     invalidate()
     for window in getattr(bpy.context.window_manager, "windows", ()):
         for area in window.screen.areas:
@@ -88,7 +91,7 @@ def drawn_objects(context):
         return []
     if obj.mode == 'EDIT' or obj.data.shape_keys is None:
         return []
-    from ..bake.character import members, selected_meshes
+    from ..keys.character import members, selected_meshes
     return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
 
 
@@ -219,6 +222,7 @@ def request_key(objs, view):
 
 _epoch = [0]        # bumped when the data of a drawn object's keys change
 _signatures = {}    # object name -> hash of its keys' data (but the live key)
+_failed = {}       # object name -> the error that stopped drawing its overlay (printed once)
 _cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
 
 
@@ -250,8 +254,10 @@ def current(context):
         try:
             _cache["ghosts"] = build(objs, view, key[-1], previous)
             _cache["batches"] = overlay.batches(_cache["ghosts"])
-        except (ValueError, RuntimeError) as exc:  # BakeError, the core's errors: shown in the panel
-            _cache["ghosts"] = Ghosts(error=str(exc))
+        except Exception as exc:  # noqa: BLE001 -- any error is shown in the panel, once computed
+            said = str(exc) if isinstance(exc, (ValueError, RuntimeError)) else "%s: %s" % (
+                type(exc).__name__, exc)
+            _cache["ghosts"] = Ghosts(error=said)
     return objs, _cache["ghosts"], _cache["batches"]
 
 
@@ -280,11 +286,29 @@ def plan(context):
 timings = deque(maxlen=512)
 
 
+def _fail(name, exc):
+    message = "bdinterp: onion skins and trails of %s stopped: %s: %s" % (name, type(exc).__name__, exc)
+    _failed[name] = message
+    _cache.update(plan=False)
+    print(message)
+
+
 def draw_callback():
-    """A redraw: the Plan as it is, unless a handler said something changed since (or another
-    object became active)."""
+    """A redraw (see _draw), never raising: an error stops the overlay of the active object."""
+    obj = bpy.context.object
+    name = getattr(obj, "name", "")
+    if name in _failed:
+        return
+    try:
+        _draw(bpy.context)
+    except Exception as exc:  # noqa: BLE001 -- said once, not on every redraw
+        _fail(name, exc)
+
+
+def _draw(context):
+    """The Plan as it is, unless a handler said something changed since (or another object
+    became active)."""
     started = time.perf_counter()
-    context = bpy.context
     if _cache["plan"] is None or context.object != _cache["active"]:
         if getattr(context.scene, "bdi_view", None) is None:
             return
@@ -299,22 +323,29 @@ def on_depsgraph_update(scene, depsgraph):
     """Anything updated: the next redraw checks the request; a drawn object's keys edited (not the
     live key alone): bump the epoch, so that it rebuilds."""
     invalidate()
-    names = _cache["key"][0] if _cache["key"] else ()
-    for update in depsgraph.updates:
-        obj_id = update.id.original
-        if isinstance(obj_id, bpy.types.Key) and update.is_updated_geometry:
-            for name in names:
-                obj = bpy.data.objects.get(name)
-                if obj is not None and obj.data.shape_keys == obj_id \
-                        and _signatures.get(name) != key_signature(obj):
-                    _epoch[0] += 1
-                    return
+    names = [n for n in (_cache["key"][0] if _cache["key"] else ()) if n not in _failed]
+    edited = {u.id.original for u in depsgraph.updates
+              if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
+    for name in names if edited else ():
+        try:
+            if _edited(bpy.data.objects.get(name), edited):
+                _epoch[0] += 1
+                return
+        except Exception as exc:  # noqa: BLE001 -- said once, not on every update
+            _fail(name, exc)
+
+
+def _edited(obj, keys):
+    """True if obj's shape keys are among `keys` and their data changed since last hashed."""
+    return (obj is not None and getattr(obj.data, "shape_keys", None) in keys
+            and _signatures.get(obj.name) != key_signature(obj))
 
 
 @persistent
 def on_load(*_args):
     _cache.update(key=None, ghosts=None, batches=None, plan=None, active=None)
     _signatures.clear()
+    _failed.clear()
 
 
 _handle = []
@@ -374,5 +405,8 @@ def draw_settings(layout, context):
     row = layout.row(align=True)  # greyed out before Blender 4.3, the tooltip says why
     row.operator("bdinterp.bind_drawing", icon='GREASEPENCIL')
     row.operator("bdinterp.bind_drawing", text="", icon='X').unbind = True
+    failed = _failed.get(getattr(context.object, "name", ""))
+    if failed:
+        return failed
     ghosts = _cache["ghosts"] if _cache["key"] is not None and (view.ghosts or view.trails) else None
     return ghosts.error if ghosts is not None and ghosts.error else ""

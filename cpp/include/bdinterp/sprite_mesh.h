@@ -10,7 +10,8 @@ namespace bdinterp {
 
 struct SpriteMeshOptions {
   double threshold = 0.5;  // alpha >= threshold is the sprite; in (0, 1]
-  double spacing = 0.0;    // the longest edge in pixels; 0: a twelfth of the sprite's larger side
+  double spacing = 0.0;    // the longest edge in pixels; 0: the sprite's larger side / spacing_divisions
+  double spacing_divisions = 12;  // >= 1; used when spacing is 0 (the spacing is at least 2 pixels)
   double detail = 1.0;     // how far (pixels) the simplified outline may stray from the traced one
   double padding = 1.0;    // how far (pixels) the outline grows outwards
   double min_angle = 20.0; // degrees, in (0, 30]
@@ -30,6 +31,7 @@ struct SpriteMesh {
   int islands = 0, holes = 0;    // kept
   int dropped_islands = 0, dropped_holes = 0;  // smaller than min_area (or closed by the padding)
   double area = 0.0;             // of the mesh, pixels^2
+  int width = 0, height = 0;     // the image's size in pixels
 };
 
 // Throws InvalidInput for an image smaller than 2x2, NaN or out-of-range alpha, options out of

@@ -76,7 +76,7 @@ SpriteMesh triangulate(const std::vector<Loop>& loops, double spacing, double mi
     outline += loop.size();
   }
   const std::vector<K::Point_2> seeds = hole_seeds(cdt);
-  const double sine = std::sin(min_angle * 3.14159265358979323846 / 180);
+  const double sine = std::sin(min_angle * kPi / 180);
   Mesher mesher(cdt, Criteria(sine * sine, spacing));  // CGAL's bound is sin^2(smallest angle)
   mesher.set_seeds(seeds.begin(), seeds.end(), false);
   mesher.init();

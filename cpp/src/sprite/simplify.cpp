@@ -4,12 +4,12 @@
 #include <cmath>
 #include <utility>
 
+#include "bdinterp/types.h"
 #include "sprite/outline.h"
 
 namespace bdinterp::sprite {
 namespace {
 
-constexpr double kPi = 3.14159265358979323846;
 
 double cross(const Point& a, const Point& b) { return a.x() * b.y() - a.y() * b.x(); }
 

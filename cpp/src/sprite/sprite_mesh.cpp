@@ -21,6 +21,8 @@ void check_options(const SpriteMeshOptions& o) {
         "threshold must lie in (0, 1], not " + std::to_string(o.threshold));
   check(finite(o.spacing) && o.spacing >= 0,
         "spacing must be a positive number of pixels (0: chosen from the sprite), not " + std::to_string(o.spacing));
+  check(finite(o.spacing_divisions) && o.spacing_divisions >= 1,
+        "spacing_divisions must be >= 1, not " + std::to_string(o.spacing_divisions));
   check(finite(o.detail) && o.detail >= 0, "detail must be >= 0 pixels, not " + std::to_string(o.detail));
   check(finite(o.padding) && o.padding >= 0 && o.padding <= 64,
         "padding must lie in [0, 64] pixels, not " + std::to_string(o.padding));
@@ -53,7 +55,8 @@ Eigen::AlignedBox2d check_alpha(const Eigen::Ref<const AlphaImage>& alpha, doubl
 SpriteMesh mesh_from_alpha(const Eigen::Ref<const AlphaImage>& alpha, const SpriteMeshOptions& o) {
   check_options(o);
   const Eigen::AlignedBox2d box = check_alpha(alpha, o.threshold);
-  const double spacing = o.spacing > 0 ? o.spacing : std::max(2.0, (box.sizes().maxCoeff() + 1) / 12);
+  const double side = box.sizes().maxCoeff() + 1;  // the sprite's larger side, pixels
+  const double spacing = o.spacing > 0 ? o.spacing : std::max(2.0, side / o.spacing_divisions);
   sprite::Field field = sprite::alpha_field(alpha, o.threshold, int(std::ceil(o.padding)) + 2);
   std::vector<sprite::Loop> loops = sprite::trace(field);
   sprite::Dropped dropped = sprite::drop_small(field, loops, o.min_area);
@@ -75,6 +78,7 @@ SpriteMesh mesh_from_alpha(const Eigen::Ref<const AlphaImage>& alpha, const Spri
   SpriteMesh mesh = sprite::triangulate(sprite::simplify(loops, o.detail, o.min_angle), spacing, o.min_angle, area);
   check(mesh.faces.rows() > 0, "the sprite's outline encloses no area to mesh");
   mesh.spacing = spacing;
+  mesh.width = int(alpha.cols()), mesh.height = int(alpha.rows());
   mesh.islands = islands, mesh.holes = int(loops.size()) - islands;
   mesh.dropped_islands = dropped.islands, mesh.dropped_holes = dropped.holes;
   mesh.area = 0;

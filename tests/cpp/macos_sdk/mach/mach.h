@@ -1,4 +1,4 @@
-// NOT Apple's header: the declarations of the Mach calls cpp/src/machine_probe_macos.cpp makes, with
+// NOT Apple's header: the declarations of the Mach calls cpp/src/parallel/machine_probe_macos.cpp makes, with
 // the types and values of macOS's SDK (mach/mach_types.h, mach/host_info.h, mach/machine.h,
 // mach/processor_info.h, mach/vm_map.h), so that `make test-libcxx` can compile that file on Linux
 // (-fsyntax-only). On a Mac the SDK's own headers are used.

@@ -1,5 +1,5 @@
 // NOT Apple's header: sysctlbyname as macOS's SDK declares it (sys/sysctl.h), for the syntax check of
-// cpp/src/machine_probe_macos.cpp on Linux (`make test-libcxx`), whose glibc has no sys/sysctl.h.
+// cpp/src/parallel/machine_probe_macos.cpp on Linux (`make test-libcxx`), whose glibc has no sys/sysctl.h.
 #pragma once
 #include <stddef.h>
 

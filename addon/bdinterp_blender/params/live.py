@@ -1,0 +1,257 @@
+"""Pose grids follow their parameters live: the blend is recomputed whenever a parameter's value
+changes (set, keyframed, driven: frame change, depsgraph update, render) and after undo.
+
+Per owner object (the one whose Object.bdi_grids holds the groups) a State caches each member's
+PoseBlender (every group combined, one precomputed Interpolator per object) and the raw key data
+it was built from; a frame costs the weights, one blend per object and the write into the key
+'bdi.pose' (relative to the reference key, value 1). An error is recorded once in
+Object.bdi_grid_error and printed; the grid then waits for its definition or its keys to change.
+"""
+
+import bpy
+from bpy.app.handlers import persistent
+
+from ..keys import live as live_mode
+from ..shapes import mesh_io, solve
+from ..shapes.mesh_io import BakeError
+from ..names import POSE_KEY
+from ..shapes.settings import BakeSettings
+
+
+def definition(obj):
+    """The grids of obj and its members' sizes as plain values (a change rebuilds the State)."""
+    return tuple((g.name, tuple((p.name, p.values, p.wrap, p.period) for p in g.params),
+                  tuple((n.index, n.key) for n in g.nodes),
+                  tuple(m.obj.name for m in g.members if m.obj is not None))
+                 for g in obj.bdi_grids) + tuple((o.name, len(o.data.vertices)) for o in members(obj))
+
+
+def core_grid(group):
+    """The bdinterp PoseGrid of a group's properties."""
+    pg = solve.core().pose_grid
+    params = [pg.Parameter(p.name, [float(x) for x in p.values.split(",")], wrap=p.wrap,
+                           period=p.period if p.wrap else None) for p in group.params]
+    keys = {tuple(float(params[a].values[int(i)]) for a, i in enumerate(n.index.split(","))): n.key
+            for n in group.nodes}
+    return pg.PoseGrid(params, keys, name=group.name)
+
+
+def members(obj):
+    """{object: [names of the groups it follows]}: obj (every group), then the other objects of
+    its groups (each following the groups it is a member of)."""
+    out = {obj: [g.name for g in obj.bdi_grids]}
+    for g in obj.bdi_grids:
+        for m in g.members:
+            if m.obj is not None and m.obj != obj:
+                out.setdefault(m.obj, []).append(g.name)
+    return out
+
+
+class Member:
+    """One object's cached blender: its name, the raw keys it was read from, the PoseBlender."""
+
+    def __init__(self, obj, grids):
+        self.groups = [g.name for g in grids]
+        key = mesh_io.key_of(obj)
+        rest = key.reference_key.name
+        names = [k for g in grids for k in g.keys() if k != rest]
+        inp = solve.Inputs(obj, BakeSettings(), list(dict.fromkeys(names)))
+        try:
+            self.blender = solve.core().pose_grid.PoseBlender(
+                dict(zip(inp.names, inp.shapes)), inp.faces, grids, rest, anchor=inp.anchor,
+                joints=inp.joints, layers=inp.layers)
+        except ValueError as exc:
+            raise inp.explain(exc) from exc
+        self.name, self.rest, self.names, self.raw = obj.name, rest, inp.names, inp.raw
+        self.report = ""
+
+    def unchanged(self, obj):
+        import numpy as np
+        key = obj.data.shape_keys if obj is not None and obj.type == 'MESH' else None
+        blocks = [key.key_blocks.get(n) if key else None for n in self.names]
+        return all(kb is not None and np.array_equal(mesh_io.read_raw(kb), raw)
+                   for kb, raw in zip(blocks, self.raw))
+
+
+class State:
+    """The cached blenders of an owner object's grids (members), the values last written, and
+    whether its keys may have been edited (dirty) or it failed (error)."""
+
+    def __init__(self, obj):
+        self.definition = definition(obj)
+        self.error, self.values, self.dirty, self.members = "", None, False, []
+        self.pending = set()  # Keys we wrote that the next depsgraph update will report
+        try:
+            grids = {g.name: core_grid(g) for g in obj.bdi_grids}
+            self.members = [Member(o, [grids[n] for n in names])
+                            for o, names in members(obj).items()]
+        except (BakeError, ValueError) as exc:
+            self.error = "%s: %s" % (obj.name, exc) if obj.name not in str(exc) else str(exc)
+
+
+_states = {}  # owner object name -> State
+_failed = set()  # owners whose update raised unexpectedly: the handlers leave them alone
+_suspended = []  # non-empty while a grid is being written: no update per property
+
+
+def suspended():
+    """Properties written inside do not update one by one (pose_grid writes a whole group)."""
+    return live_mode.suspend(_suspended)
+
+
+def state_of(obj):
+    """obj's State, rebuilt when its grids changed or (after an edit or undo) its keys did."""
+    state = _states.get(obj.name)
+    if state is not None and state.dirty and not state.error:
+        state.dirty = False
+        if not all(m.unchanged(bpy.data.objects.get(m.name)) for m in state.members):
+            state = None
+    if state is None or state.definition != definition(obj) or (state.error and state.dirty):
+        state = _states[obj.name] = State(obj)
+    return state
+
+
+def points(obj):
+    """{group name: (value per parameter)} of obj (pass the evaluated object for animated values)."""
+    return {g.name: tuple(p.amount for p in g.params) for g in obj.bdi_grids}
+
+
+def compute(state, values):
+    """[(member name, Blend)] at values {group: point} (writes nothing)."""
+    out = []
+    for m in state.members:
+        try:
+            out.append((m.name, m.blender.blend({g: values[g] for g in m.groups})))
+        except ValueError as exc:
+            raise BakeError("%s: %s" % (m.name, exc)) from exc
+    return out
+
+
+def update(obj, depsgraph=None, force=False, reported=True):
+    """Recompute and write the pose key of obj's grid members if the values changed (or force);
+    returns True if it wrote. reported: the next depsgraph update will report the write (not so
+    for writes in frame_change_post). Errors are recorded (Object.bdi_grid_error), never raised."""
+    state = state_of(obj)
+    if not state.error:
+        values = points(obj.evaluated_get(depsgraph) if depsgraph is not None else obj)
+        keys = [o.data.shape_keys.key_blocks.get(POSE_KEY)
+                for o in (bpy.data.objects.get(m.name) for m in state.members)]
+        if keys[0] is not None and keys[0].mute:
+            return False  # Bake Grid muted it: the baked keys show the grid (unmute to go live)
+        if values == state.values and None not in keys and not force:
+            return False
+        try:
+            for (name, blend), m in zip(compute(state, values), state.members):
+                target = bpy.data.objects[name]
+                live_mode.write_key(target, m.rest, blend.shape, POSE_KEY)
+                m.report = blend.report()
+                if reported:
+                    state.pending.add(target.data.shape_keys.name)
+            state.values = values
+        except (BakeError, RuntimeError) as exc:
+            state.error = str(exc)
+    if obj.bdi_grid_error != state.error:
+        if state.error:
+            print("bdinterp: pose grid of %s: %s" % (obj.name, state.error))
+        try:
+            obj.bdi_grid_error = state.error
+        except (AttributeError, RuntimeError):  # a handler where Blender forbids writes
+            pass
+    return not state.error
+
+
+def reports(obj):
+    """{object name: how its last blend relates to the guarantee (Blend.report(), worst K of an
+    extrapolated combination)} of obj's grids, or {owner: its error}."""
+    state = _states.get(obj.name)
+    if state is None:
+        return {}
+    if state.error:
+        return {obj.name: state.error}
+    return {m.name: m.report for m in state.members}
+
+
+def remove(obj):
+    """Forget obj's cached State (its grids were removed or are set up anew)."""
+    _states.pop(obj.name, None)
+    _failed.discard(obj.name)
+
+
+def _guarded(obj, depsgraph, reported=True):
+    """update() from a handler: an unexpected error is said once and the object left alone
+    (until its grids are set up again, or undo), never raised every frame."""
+    if obj.name in _failed:
+        return
+    try:
+        update(obj, depsgraph, reported=reported)
+    except Exception as exc:  # noqa: BLE001 -- a handler must not fail every frame
+        _failed.add(obj.name)
+        print("bdinterp: pose grid of %s stopped: %s: %s" % (obj.name, type(exc).__name__, exc))
+
+
+def on_value_change(obj):
+    if obj.bdi_grids and not _suspended:
+        _guarded(obj, None)
+
+
+def _grid_objects(scene):
+    return [o for o in scene.objects if o.type == 'MESH' and len(o.bdi_grids)]
+
+
+def _mark_edited(depsgraph):
+    """Mark the States whose objects' Keys were updated by someone else dirty (their input keys
+    are then re-read and compared). Our own writes are reported too; one reported just after
+    our write is taken as ours: re-reading nine keys would cost more than the blend (8 ms of
+    36 at 5k vertices). So an input key edited by a script together with a parameter change, in
+    one update, is noticed at the next key edit or undo."""
+    edited = {u.id.original.name for u in depsgraph.updates
+              if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
+    for state in _states.values():
+        keys = {getattr(bpy.data.objects[m.name].data.shape_keys, "name", None)
+                for m in state.members if bpy.data.objects.get(m.name) is not None}
+        if (keys & edited) - state.pending:
+            state.dirty = True
+        state.pending.clear()
+
+
+@persistent
+def on_frame_change(scene, depsgraph=None):
+    if depsgraph is not None:
+        _mark_edited(depsgraph)
+    for obj in _grid_objects(scene):
+        _guarded(obj, depsgraph, reported=False)  # writes in this handler are not reported
+
+
+@persistent
+def on_depsgraph_update(scene, depsgraph):
+    _mark_edited(depsgraph)
+    for obj in _grid_objects(scene):
+        _guarded(obj, depsgraph)
+
+
+@persistent
+def on_undo(*_args):
+    _failed.clear()
+    for state in _states.values():
+        state.dirty, state.values = True, None
+
+
+@persistent
+def on_load(*_args):
+    _states.clear()
+    _failed.clear()
+
+
+HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
+            (bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
+            (bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
+            (bpy.app.handlers.load_post, on_load))
+
+
+def register():
+    live_mode.add_handlers(HANDLERS)
+
+
+def unregister():
+    live_mode.remove_handlers(HANDLERS)
+    _states.clear()

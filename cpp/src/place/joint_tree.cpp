@@ -1,0 +1,283 @@
+// Which piece of a cut-out character holds which (joints.h, docs/JOINTS.md): the kind of each
+// overlapping pair from its relative motion between the inputs, and the tree of the best joints.
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numeric>
+#include <queue>
+#include <sstream>
+
+#include "mesh/geometry.h"
+#include "place/joints.h"
+#include "place/rigid_motion.h"
+#include "mesh/turns.h"
+
+namespace bdinterp::detail {
+namespace {
+
+// A piece whose anchor moves by at most this fraction of the size in every input is still (the
+// float32 keys of a still piece moved by an armature differ by about 1e-7).
+constexpr double kStill = 1e-6;
+
+// Piece p's motion from the base to input i (its anchor frames): turn, then base point to point i.
+RigidMotion motion(const JointPiece& p, int base, size_t i) {
+  const Frame2 &b = (*p.frames)[static_cast<size_t>(base)], &x = (*p.frames)[i];
+  const RigidMotion turn{x.angle - b.angle, Eigen::Vector2d::Zero()};
+  return {turn.angle, x.point - turn(b.point)};
+}
+
+// Per input, the child's motion relative to its parent: mp^-1 after mc.
+std::vector<RigidMotion> relative_motions(const JointPiece& parent, const JointPiece& child, int base) {
+  std::vector<RigidMotion> rel;
+  for (size_t i = 0; i < parent.frames->size(); ++i) {
+    const RigidMotion mp = motion(parent, base, i), mc = motion(child, base, i);
+    const RigidMotion back{-mp.angle, Eigen::Rotation2Dd(-mp.angle) * -mp.shift};
+    rel.push_back({mc.angle - mp.angle, back(mc.shift)});
+  }
+  return rel;
+}
+
+// A first guess at the pin: the fixed point of the relative motion in the input that turns the
+// child most; false if no input turns it.
+bool pin_guess(const std::vector<RigidMotion>& rel, Eigen::Vector2d& q) {
+  const auto most = std::max_element(rel.begin(), rel.end(), [](const RigidMotion& a, const RigidMotion& b) {
+    return std::abs(std::sin(0.5 * a.angle)) < std::abs(std::sin(0.5 * b.angle));
+  });
+  const std::complex<double> denom = 1.0 - std::polar(1.0, most->angle);
+  if (std::abs(denom) < 1e-6) return false;
+  const std::complex<double> z = std::complex<double>(most->shift.x(), most->shift.y()) / denom;
+  q = Eigen::Vector2d(z.real(), z.imag());
+  return true;
+}
+
+// The affine map of face f of a piece from the base shape B to X: x -> J x + c.
+void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
+              Eigen::Vector2d& c) {
+  const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
+  J = edge_matrix(X, a, b, d) * edge_matrix(B, a, b, d).inverse();
+  c = X.row(a).transpose() - J * B.row(a).transpose();
+}
+
+// Refines q to the point that the parent's and the child's triangles carry to the same place in
+// every input (least squares over the inputs, per pair of triangles, until they stay the same);
+// false if q leaves either piece.
+bool refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
+                const TriangleGrid& child, Eigen::Vector2d& q) {
+  const Positions& B = shapes[static_cast<size_t>(base)];
+  int fp = -1, fc = -1, last_p = -2, last_c = -2;
+  Eigen::Vector3d bary;
+  for (int iteration = 0; iteration < 10 && (fp != last_p || fc != last_c); ++iteration) {
+    last_p = fp, last_c = fc;
+    if (parent.locate(q, fp, bary) < -kInside || child.locate(q, fc, bary) < -kInside) return false;
+    Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
+    Eigen::Vector2d r = Eigen::Vector2d::Zero();
+    for (const Positions& X : shapes) {  // the gap (Jc - Jp) q + (cc - cp) in each input
+      Eigen::Matrix2d Jp, Jc;
+      Eigen::Vector2d cp, cc;
+      face_map(parent, fp, B, X, Jp, cp);
+      face_map(child, fc, B, X, Jc, cc);
+      M += (Jc - Jp).transpose() * (Jc - Jp);
+      r += (Jc - Jp).transpose() * (cc - cp);
+    }
+    if (std::abs(M.determinant()) < 1e-24) break;  // the pieces move alike: every point is common
+    q = -M.inverse() * r;
+  }
+  return parent.locate(q, fp, bary) >= -kInside && child.locate(q, fc, bary) >= -kInside;
+}
+
+// The vertices of `b` strictly inside `a` (base shape X).
+std::vector<int> inside(const Positions& X, const TriangleGrid& a, const JointPiece& b) {
+  std::vector<int> out;
+  int f;
+  Eigen::Vector3d bary;
+  for (int v : *b.vertices)
+    if (a.locate(X.row(v).transpose(), f, bary) >= kInside) out.push_back(v);
+  return out;
+}
+
+// A candidate joint between two overlapping pieces; rank orders candidates (smaller is better).
+struct Candidate {
+  JointEdge edge;
+  double rank;
+};
+
+// The kind of the joint between overlapping pieces a and b (`overlap`: the vertices of either
+// inside the other), or false when there is none. Glued: no input moves b against a by more than
+// kPinGap of the size (turn x size + shift at the overlap's centre). Pin: the refined fixed point
+// of the relative motion lies in both pieces and both carry it to one place in every input. Slide:
+// b turns against a by no more than that in any input, but moves. Glued and slide joints sit at
+// the overlap's vertex nearest its centre. Candidates rank pins first, by gap plus largest relative
+// turn (a joint turns less than a chain through it), then glued, then slides, each by its fit.
+bool classify(const std::vector<Positions>& shapes, int base, double size, const TriangleGrid& a,
+              const TriangleGrid& b, const std::vector<int>& overlap, Candidate& out) {
+  const Positions& X = shapes[static_cast<size_t>(base)];
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();
+  for (int v : overlap) centre += X.row(v).transpose() / static_cast<double>(overlap.size());
+  const std::vector<RigidMotion> rel = relative_motions(a.piece(), b.piece(), base);
+  double moved = 0, turn = 0;
+  for (const RigidMotion& m : rel) {
+    moved = std::max(moved, std::abs(detail::wrap_angle(m.angle)) * size + (m(centre) - centre).norm());
+    turn = std::max(turn, std::abs(detail::wrap_angle(m.angle)));
+  }
+  Eigen::Vector2d q;
+  if (turn * size > Joints::kPinGap * size) {
+    if (!pin_guess(rel, q) || !refine_pin(shapes, base, a, b, q)) return false;
+    const double gap = joint_gap(shapes, base, a, b, q) / size;
+    if (gap > Joints::kPinGap) return false;
+    out = {{-1, -1, q, JointKind::Pin, gap}, gap / Joints::kPinGap + turn / kPi};
+    return true;
+  }
+  const int v = *std::min_element(overlap.begin(), overlap.end(), [&](int p, int r) {
+    return (X.row(p).transpose() - centre).norm() < (X.row(r).transpose() - centre).norm();
+  });
+  const bool glued = moved <= Joints::kPinGap * size;
+  out = {{-1, -1, X.row(v).transpose(), glued ? JointKind::Glued : JointKind::Slide, moved / size},
+         (glued ? 2.0 : 3.0) + std::min(moved / size, 0.5)};
+  return true;
+}
+
+// How far each piece's anchor moves from the base in any input (turn x size + shift).
+std::vector<double> piece_moves(const std::vector<JointPiece>& pieces, int base, size_t k, double size) {
+  std::vector<double> moves(pieces.size(), 0.0);
+  for (size_t p = 0; p < pieces.size(); ++p) {
+    const Eigen::Vector2d at = pieces[p].frames->at(static_cast<size_t>(base)).point;
+    for (size_t i = 0; i < k; ++i) {
+      const RigidMotion m = motion(pieces[p], base, i);
+      moves[p] = std::max(moves[p], std::abs(m.angle) * size + (m(at) - at).norm());
+    }
+  }
+  return moves;
+}
+
+int find_set(std::vector<int>& up, int x) {
+  while (up[x] != x) x = up[x] = up[up[x]];
+  return x;
+}
+
+// The spanning forest's edges (unoriented, piece a < b) as parents first from `sources`.
+std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const std::vector<int>& sources) {
+  std::vector<std::vector<const Candidate*>> adjacent(n);
+  for (const Candidate& c : chosen) adjacent[c.edge.parent].push_back(&c), adjacent[c.edge.child].push_back(&c);
+  std::vector<bool> seen(n, false);
+  std::vector<JointEdge> out;
+  std::queue<int> todo;
+  for (int s : sources)
+    if (!seen[s]) seen[s] = true, todo.push(s);
+  while (!todo.empty()) {
+    const int u = todo.front();
+    todo.pop();
+    for (const Candidate* c : adjacent[u]) {
+      const int v = c->edge.parent == u ? c->edge.child : c->edge.parent;
+      if (seen[v]) continue;
+      seen[v] = true;
+      JointEdge e = c->edge;
+      e.parent = u, e.child = v;
+      out.push_back(e);
+      todo.push(v);
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent, const TriangleGrid& child,
+                 const Eigen::Vector2d& q) {
+  const Positions& B = shapes[static_cast<size_t>(base)];
+  int fp, fc;
+  Eigen::Vector3d bary;
+  parent.locate_nearest(q, fp, bary);
+  child.locate_nearest(q, fc, bary);
+  double gap = 0;
+  for (const Positions& X : shapes) {
+    Eigen::Matrix2d Jp, Jc;
+    Eigen::Vector2d cp, cc;
+    face_map(parent, fp, B, X, Jp, cp);
+    face_map(child, fc, B, X, Jc, cc);
+    gap = std::max(gap, ((Jc - Jp) * q + cc - cp).norm());
+  }
+  return gap;
+}
+
+std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
+                                       const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                       int root) {
+  const Positions& X = shapes[static_cast<size_t>(base)];
+  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  const int n = static_cast<int>(pieces.size());
+  std::vector<Candidate> candidates;
+  for (int a = 0; a < n; ++a)
+    for (int b = a + 1; b < n; ++b) {
+      if (!grids[a].boxes_meet(grids[b])) continue;
+      std::vector<int> ov = inside(X, grids[a], pieces[b]), ba = inside(X, grids[b], pieces[a]);
+      ov.insert(ov.end(), ba.begin(), ba.end());
+      Candidate c;
+      if (ov.empty() || !classify(shapes, base, size, grids[a], grids[b], ov, c)) continue;
+      c.edge.parent = a, c.edge.child = b;
+      candidates.push_back(c);
+    }
+  // Kruskal: the best joints that make no cycle.
+  std::stable_sort(candidates.begin(), candidates.end(),
+                   [](const Candidate& p, const Candidate& q) { return p.rank < q.rank; });
+  std::vector<int> up(n);
+  std::iota(up.begin(), up.end(), 0);
+  std::vector<Candidate> chosen;
+  for (const Candidate& c : candidates) {
+    const int ra = find_set(up, c.edge.parent), rb = find_set(up, c.edge.child);
+    if (ra != rb) up[ra] = rb, chosen.push_back(c);
+  }
+  // Roots: the anchored piece alone in its tree (so the anchor holds); elsewhere every still piece
+  // (so none is moved by another), then per tree the piece that moves least.
+  const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
+  std::vector<int> sources, order(n);
+  const int anchored = root >= 0 ? find_set(up, root) : -1;
+  if (root >= 0) sources.push_back(root);
+  for (int p = 0; p < n; ++p)
+    if (moves[p] <= kStill * size && find_set(up, p) != anchored) sources.push_back(p);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return moves[a] < moves[b]; });
+  std::vector<bool> rooted(n, false);
+  for (int s : sources) rooted[find_set(up, s)] = true;
+  for (int p : order)
+    if (!rooted[find_set(up, p)]) rooted[find_set(up, p)] = true, sources.push_back(p);
+  return orient(n, chosen, sources);
+}
+
+std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
+                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids) {
+  const Positions& X = shapes[static_cast<size_t>(base)];
+  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  const int n = static_cast<int>(grids.size());
+  std::vector<int> parent_link(n, -1);
+  for (size_t k = 0; k < links.size(); ++k) {
+    std::ostringstream s;
+    s << "joint link " << k << ": ";
+    if (links[k].parent == links[k].child) throw InvalidInput(s.str() + "its parent and child vertices are in one piece");
+    if (parent_link[links[k].child] >= 0)
+      throw InvalidInput(s.str() + "its child piece already hangs from link " + std::to_string(parent_link[links[k].child]));
+    parent_link[links[k].child] = static_cast<int>(k);
+  }
+  std::vector<JointEdge> out;
+  std::vector<int> depth(n, -1);  // parents first: walk up each piece's chain to a root
+  for (int p = 0; p < n; ++p) {
+    std::vector<int> chain;
+    for (int q = p; depth[q] < 0; q = links[parent_link[q]].parent) {
+      if (std::find(chain.begin(), chain.end(), q) != chain.end())
+        throw InvalidInput("joint link " + std::to_string(parent_link[q]) + ": the links make a cycle");
+      chain.push_back(q);
+      if (parent_link[q] < 0) break;
+    }
+    for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
+      const int q = *it, k = parent_link[q];
+      depth[q] = 0;
+      if (k < 0) continue;
+      const GivenJoint& g = links[k];
+      out.push_back({g.parent, g.child, g.point, JointKind::Given,
+                     joint_gap(shapes, base, grids[g.parent], grids[g.child], g.point) / size});
+    }
+  }
+  return out;
+}
+
+}  // namespace bdinterp::detail

@@ -1,0 +1,69 @@
+#include "place/joints.h"
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "mesh/turns.h"
+
+namespace bdinterp {
+
+using detail::JointEdge;
+using detail::TriangleGrid;
+
+Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
+  Eigen::Vector2d p = Eigen::Vector2d::Zero();
+  for (int c = 0; c < 3; ++c) p += bary[c] * X.row(v[c]).transpose();
+  return p;
+}
+
+Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root,
+               const std::vector<detail::GivenJoint>& given)
+    : pieces_(pieces) {
+  std::vector<TriangleGrid> grids;
+  grids.reserve(pieces_.size());  // the grids keep references to the pieces
+  for (const JointPiece& p : pieces_) grids.emplace_back(shapes[static_cast<size_t>(base)], p);
+  const std::vector<JointEdge> tree = given.empty() ? detail::find_joint_tree(shapes, base, pieces_, grids, root)
+                                                    : detail::given_joint_tree(shapes, base, given, grids);
+  for (const JointEdge& e : tree) add_joint(shapes, base, e, grids[e.parent], grids[e.child]);
+}
+
+void Joints::add_joint(const std::vector<Positions>& shapes, int base, const JointEdge& edge,
+                       const TriangleGrid& in_parent, const TriangleGrid& in_child) {
+  Joint j{edge, {}, {}, {}, {}, {}};
+  int fp = -1, fc = -1;
+  Eigen::Vector3d bp = Eigen::Vector3d::Zero(), bc = bp;
+  in_parent.locate_nearest(edge.point, fp, bp);
+  in_child.locate_nearest(edge.point, fc, bc);
+  j.in_parent = {{in_parent.vertex(fp, 0), in_parent.vertex(fp, 1), in_parent.vertex(fp, 2)}, bp};
+  j.in_child = {{in_child.vertex(fc, 0), in_child.vertex(fc, 1), in_child.vertex(fc, 2)}, bc};
+  const std::vector<Frame2>&P = *pieces_[edge.parent].frames, &C = *pieces_[edge.child].frames;
+  const size_t b = static_cast<size_t>(base);
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    j.parent_angle.push_back(P[i].angle);
+    // The keys' turn of the child against its parent, the short way (a joint does not wind up).
+    const double turn = (C[i].angle - C[b].angle) - (P[i].angle - P[b].angle);
+    j.relative.push_back(C[b].angle - P[b].angle + detail::wrap_angle(turn));
+    j.offset.push_back(j.in_child.at(shapes[i]) - j.in_parent.at(shapes[i]));
+  }
+  joints_.push_back(std::move(j));
+}
+
+void Joints::apply(const Eigen::VectorXd& w, std::vector<double>& angle, Eigen::Ref<Positions> out) const {
+  for (const Joint& j : joints_) {
+    const int parent = j.edge.parent, child = j.edge.child;
+    double turn = 0;  // the child's angle: the parent's plus the blend of their relative angles
+    Eigen::Vector2d offset = Eigen::Vector2d::Zero();  // the keys' offsets blended in the parent's frame
+    for (Eigen::Index i = 0; i < w.size(); ++i) {
+      turn += w[i] * j.relative[static_cast<size_t>(i)];
+      offset += w[i] * (Eigen::Rotation2Dd(angle[parent] - j.parent_angle[static_cast<size_t>(i)]) *
+                        j.offset[static_cast<size_t>(i)]);
+    }
+    turn += angle[parent];
+    const Eigen::Matrix2d R = Eigen::Rotation2Dd(turn - angle[child]).toRotationMatrix();
+    angle[child] = turn;
+    const Eigen::Vector2d from = j.in_child.at(out), to = j.in_parent.at(out) + offset;
+    for (int v : *pieces_[child].vertices) out.row(v) = (R * (out.row(v).transpose() - from) + to).transpose();
+  }
+}
+
+}  // namespace bdinterp

@@ -1,0 +1,99 @@
+// Joints between the loose pieces of a cut-out character (docs/JOINTS.md).
+//
+// Each piece is placed on its own first (the anchor's geodesic, rigid_motion.h); the joints then
+// move every child rigidly so that its joint point stays where its parent's in-between carries that
+// point, turned by the parent's angle plus the blend of its angles relative to the parent. The
+// shape of every piece is untouched. Which pieces hold which is a tree: found from the relative
+// motions of overlapping pieces (joint_tree.cpp), or given (an armature's bones).
+#pragma once
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "place/anchor_frame.h"
+#include "bdinterp/interpolator.h"
+#include "bdinterp/types.h"
+#include "place/triangle_grid.h"
+
+namespace bdinterp {
+
+namespace detail {
+// One joint of the tree: the pieces, its point in the base shape, its kind and fit (JointInfo).
+struct JointEdge {
+  int parent = -1, child = -1;
+  Eigen::Vector2d point = Eigen::Vector2d::Zero();
+  JointKind kind = JointKind::Pin;
+  double fit = 0;
+};
+// A given link with its pieces (indices into the pieces) and point in the base shape.
+struct GivenJoint {
+  int parent, child;
+  Eigen::Vector2d point;
+};
+
+// The tree found from the overlaps of the pieces in the base shape (joint_tree.cpp), parents
+// first: each overlapping pair is a pin, glued or no joint; a maximum spanning forest keeps the
+// best (pins before glued, each by its fit), rooted at the still pieces, the anchored piece
+// (root >= 0), else the piece that moves least.
+std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
+                                       const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                       int root);
+// The given links in tree order, parents first (InvalidInput naming link k for two parents of one
+// piece, a link within one piece or a cycle); the fit is measured as for a pin.
+std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
+                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids);
+// The largest gap over the inputs between where the two pieces' triangles carry q (q located in
+// each, extended by the nearest triangle's affine map outside it).
+double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
+                 const TriangleGrid& child, const Eigen::Vector2d& q);
+}  // namespace detail
+
+class Joints {
+ public:
+  // shapes: the inputs (#V by 2, the Interpolator's normalised frame); base: the base input.
+  // given empty: the tree found (find_joint_tree; root >= 0 is the piece holding a vertex anchor);
+  // else the given links (points in the normalised frame).
+  Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root,
+         const std::vector<detail::GivenJoint>& given);
+
+  int size() const { return static_cast<int>(joints_.size()); }
+  // Joint k as (parent piece, child piece), in the order apply() visits them (parents first).
+  std::array<int, 2> link(int k) const { return {joints_[k].edge.parent, joints_[k].edge.child}; }
+  // Joint k's point in the base shape (2), its kind, whether it is a pin and its fit (JointInfo).
+  const detail::JointEdge& edge(int k) const { return joints_[k].edge; }
+  bool pinned(int k) const {
+    const detail::JointEdge& e = joints_[k].edge;
+    return e.kind == JointKind::Pin || (e.kind == JointKind::Given && e.fit <= kPinGap);
+  }
+
+  // Moves the children in `out` (#V by 2, every piece placed on its own) for weights w (#inputs,
+  // sum 1). angle (#pieces): the anchor angle each piece was placed at (blend_frames); on return,
+  // its angle after the joints. Exact at the inputs when the pieces are (w = e_i).
+  void apply(const Eigen::VectorXd& w, std::vector<double>& angle, Eigen::Ref<Positions> out) const;
+
+  // A point both pieces carry to one place in every input to this fraction of the size is a pin.
+  static constexpr double kPinGap = 1e-3;
+
+ private:
+  // A point of the base shape in a piece: the face's three global vertices, barycentric weights.
+  struct Site {
+    std::array<int, 3> v;
+    Eigen::Vector3d bary;
+    Eigen::Vector2d at(const Eigen::Ref<const Positions>& X) const;
+  };
+  struct Joint {
+    detail::JointEdge edge;
+    Site in_parent, in_child;
+    std::vector<double> relative;           // per input: child's angle minus parent's, in (-pi, pi]
+    std::vector<double> parent_angle;       // per input: the parent's anchor angle
+    std::vector<Eigen::Vector2d> offset;    // per input: child's point minus parent's (0 at a pin)
+  };
+  void add_joint(const std::vector<Positions>& shapes, int base, const detail::JointEdge& edge,
+                 const detail::TriangleGrid& in_parent, const detail::TriangleGrid& in_child);
+
+  std::vector<Joint> joints_;
+  const std::vector<JointPiece> pieces_;
+};
+
+}  // namespace bdinterp
