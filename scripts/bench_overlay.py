@@ -1,13 +1,16 @@
 """The onion-skin overlay's redraw cost in Blender (docs/BENCHMARKS.md): at each size, a bent grid
-with three ghosts and a trail, drawn in a real window under Xvfb by examples/blender/onion_screenshot.py.
+with three ghosts and a trail, drawn in a real window under Xvfb by examples/blender/onion_screenshot.py
+(the add-on as Blender finds it: the one installed in BLENDER_USER_SCRIPTS, or this checkout's).
 
     /usr/bin/python3 scripts/bench_overlay.py [--sizes 5000,20000] [--redraws 30] [--blender blender]
 
 Two runs a size: as it is, then with every GPU batch's draw() a no-op (this file, passed to
 Blender before onion_screenshot.py with --stub-draws, swaps them in), so that the second run's
 callback time is the Python side alone.  Prints a Markdown table: the draw callback's median CPU
-time (time.perf_counter around it, cached redraws), the callback without GPU draws, and the whole
-viewport region's redraw (wm.redraw_timer) without and with the overlay.  Without a GPU (Xvfb)
+time (time.perf_counter around it, cached redraws), the callback without GPU draws, the whole
+viewport region's redraw (wm.redraw_timer) without and with the overlay, and the callback without
+GPU draws in a redraw right after the object moved, a colour changed, a live frame (a third run,
+in live mode).  Without a GPU (Xvfb)
 Mesa's llvmpipe draws in software on the CPU: its batch.draw() calls carry that work.
 """
 
@@ -41,11 +44,12 @@ def stub_draws():
     bpy.app.timers.register(patch, first_interval=0.1)  # after onion_screenshot.py enabled it
 
 
-def run(blender, size, redraws, stub):
+def run(blender, size, redraws, stub, live=False):
     cmd = ["xvfb-run", "-a", "-s", "-screen 0 1600x1000x24", blender, "--factory-startup"]
     cmd += ["--python", os.path.abspath(__file__)] if stub else []
     cmd += ["--python", SCRIPT, "--", "--scene", "grid:%d" % size, "--redraws", str(redraws),
-            "--out", "/tmp/bench_overlay.png"] + (["--stub-draws"] if stub else [])
+            "--out", "/tmp/bench_overlay.png", "--changes"] + (["--stub-draws"] if stub else [])
+    cmd += ["--live"] if live else []
     proc = subprocess.run(cmd, capture_output=True, text=True, timeout=900)
     lines = [ln for ln in proc.stdout.splitlines() if ln.startswith("JSON:")]
     if not lines:
@@ -56,17 +60,24 @@ def run(blender, size, redraws, stub):
     return out
 
 
+def _ms(seconds):
+    return "%.3f" % (1e3 * seconds) if seconds is not None else "–"
+
+
 def main(argv):
     def opt(name, default):
         return argv[argv.index(name) + 1] if name in argv else default
     blender, redraws = opt("--blender", "blender"), int(opt("--redraws", "30"))
-    print("| vertices | callback (ms) | callback, no GPU draws (ms) | redraw without / with overlay (ms) |")
-    print("|---:|---:|---:|---:|")
+    print("| vertices | callback (ms) | callback, no GPU draws (ms) | redraw without / with overlay (ms) "
+          "| no GPU draws, after a move / a colour / a live frame (ms) |")
+    print("|---:|---:|---:|---:|---:|")
     for size in map(int, opt("--sizes", "5000,20000").split(",")):
         full, python = run(blender, size, redraws, False), run(blender, size, redraws, True)
-        print("| %d | %.2f | %.3f | %.0f / %.0f |" % (
+        live = run(blender, size, redraws, True, live=True)
+        print("| %d | %.2f | %.3f | %.0f / %.0f | %s / %s / %s |" % (
             full["vertices"], 1e3 * full["draw_cached"], 1e3 * python["draw_cached"],
-            1e3 * full["redraw_off"], 1e3 * full["redraw_on"]), flush=True)
+            1e3 * full["redraw_off"], 1e3 * full["redraw_on"], _ms(python.get("draw_moved")),
+            _ms(python.get("draw_recoloured")), _ms(live.get("draw_live"))), flush=True)
     print("\nRenderer: %s" % full["renderer"])
 
 

@@ -60,11 +60,16 @@ def main():
     b.plot(*interp.at(0.5)[ch.ranges[NAMES.index("hand_r")]].mean(axis=0), "o", c="C0", ms=7)
     b.set_title("keys (grey, green) and the in-between at t = 0.5 (blue);\n"
                 "the right hand's centre: bdinterp (o) and the linear blend (x)", fontsize=10)
-    for ax in (a, b):
+    save(fig, OUT, 90)
+
+
+def save(fig, out, dpi):
+    """Every axes of fig without its frame, at equal scale, written to `out`."""
+    for ax in fig.axes:
         ax.set_aspect("equal")
         ax.axis("off")
-    fig.savefig(OUT, dpi=90, bbox_inches="tight")
-    print("wrote", OUT)
+    fig.savefig(out, dpi=dpi, bbox_inches="tight")
+    print("wrote", out)
 
 
 if __name__ == "__main__":

@@ -4,19 +4,20 @@ Scripting (see api.py):  ``import bdinterp_blender; bdinterp_blender.bake(obj, t
 
 Subpackages by the animator's task, each importing only from the layers before it
 (tests/blender/test_structure.py checks it): core (the compiled module's loader), names, actions,
-timing -> shapes (keys read, settings, solve: no writes) -> files (paintings in, Mesh from Image)
-and keys (what writes shape keys: the slider, bake jobs, export, characters, live mode) -> view
-(what the viewport draws) and params (pose parameters: grids of poses followed live, Bake Grid)
--> api (the scripting facade) and strokes (Grease Pencil in-betweens, their operator and panel)
+timing, changes (the one pair of scene handlers) -> shapes (keys read, settings, solve: no
+writes) -> files (paintings in, Mesh from Image) and keys (what writes shape keys: the slider,
+bake jobs, export, characters, live mode) -> view (what the viewport draws) and params (pose
+parameters: grids of poses followed live, Bake Grid) -> api (the scripting facade) and strokes (Grease Pencil in-betweens, their operator and panel)
 -> ui (properties, operators, panels) -> this file (registration).
 """
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
-MODULES = ("core", "names", "actions", "timing",
+MODULES = ("core", "names", "actions", "timing", "changes",
            "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
            "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.posing", "keys.live",
-           "view.overlay", "view.distortion", "view.motion_trails", "view.onion", "view.drawing_bind",
+           "view.overlay", "view.distortion", "view.motion_trails", "view.ghosts", "view.onion",
+           "view.locate", "view.drawing_bind",
            "params.live", "params.setup", "params.bake_grid",
            "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators",
            "ui.pose_operators", "ui.panels",

@@ -11,6 +11,8 @@ namespace {
 using Release = py::call_guard<py::gil_scoped_release>;
 // JointKind's names in Python, in the enum's order.
 constexpr const char* kJointKinds[] = {"pin", "glued", "slide", "given"};
+// RootReason's names in Python, in the enum's order.
+constexpr const char* kRootReasons[] = {"anchor", "still", "travels", "turns", "given", "path"};
 
 // A read-write property for a field of the nested FlattenOptions.
 template <typename T>
@@ -119,6 +121,19 @@ void bind_interpolator(py::module_& m) {
           "The joints between pieces, parents first: dicts parent, child (each piece's lowest vertex), "
           "point (the joint point in the base shape), kind ('pin', 'glued', 'slide' or 'given'), pin (both "
           "pieces carry the point to one place in every input) and fit (that gap relative to the size).")
+      .def(
+          "joint_roots",
+          [](const Interpolator& I) {
+            py::list out;
+            for (const auto& r : I.joint_roots())
+              out.append(py::dict(py::arg("piece") = r.vertex, py::arg("reason") = kRootReasons[static_cast<int>(r.reason)],
+                                  py::arg("point") = r.point, py::arg("rank") = r.rank));
+            return out;
+          },
+          "The root of every tree of joints (a piece in no joint is its own tree): dicts piece (its "
+          "lowest vertex), reason ('anchor', 'still', 'travels', 'turns', 'given' or 'path'), point (for "
+          "'turns': the fixed point of the piece's own motion) and rank (for 'turns': the fixed point's "
+          "distance outside the piece over the pins' reach x its size, plus its largest turn / pi).")
       .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
            "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),

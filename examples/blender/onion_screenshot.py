@@ -2,7 +2,7 @@
 
     xvfb-run -a -s "-screen 0 1600x1000x24" blender --factory-startup --python \\
         examples/blender/onion_screenshot.py -- [--scene one|seven|grid:VERTICES] [--live] \\
-        [--ghosts FACTORS|BAKED|FRAMES] [--chords] [--out shot.png] [--redraws 50]
+        [--ghosts FACTORS|BAKED|FRAMES] [--chords] [--out shot.png] [--redraws 50] [--changes]
 
 Scenes: examples/cutout's character as one object or as seven objects (its slider at 0, so every
 ghost lies after the shown shape), or a bent grid of about VERTICES vertices (the benchmark).
@@ -12,7 +12,9 @@ Draws the viewport (top view) without and with the overlay, and prints 'JSON:{..
 0.75 ghost's triangles project (region pixels, only those on empty background without the
 overlay) and the colour change there (and at the first ghost's), the same at empty corners, the
 overlay's draw times (first: the rebuild; then cached redraws) and the region's redraw time
-without and with the overlay.  scripts/bench_overlay.py runs it for docs/BENCHMARKS.md.
+without and with the overlay; --changes: also the draw callback's time right after the object
+moved, a colour changed or (--live) the live factor changed.  scripts/bench_overlay.py runs it
+for docs/BENCHMARKS.md.
 """
 
 import json
@@ -111,7 +113,7 @@ def ghost_pixels(ghosts, factor=0.75):
     from bpy_extras.view3d_utils import location_3d_to_region_2d
     _, area, region = view3d()
     i = int(np.argmin(np.abs(np.array(ghosts.factors) - factor)))
-    centres = ghosts.shapes[i][ghosts.faces].mean(axis=1)
+    centres = ghosts.in_world(ghosts.shapes[i][ghosts.faces].mean(axis=1))
     rv3d = area.spaces.active.region_3d
     pts = [location_3d_to_region_2d(region, rv3d, c) for c in centres[:: max(1, len(centres) // 400)]]
     return [(int(p.x) + region.x, int(p.y) + region.y) for p in pts if p is not None
@@ -172,6 +174,28 @@ def steps(addon, out):
     out["corner_change"] = max(float(abs(img[y, x, :3] - base[y, x, :3]).max()) for x, y in corners)
     out["factors"] = list(map(float, ghosts.factors))
     out["trails"] = list(ghosts.trails.shape)
+    if "--changes" in ARGS:
+        out.update(redraws_after_changes(objs[0], view, redraws))
+
+
+def redraws_after_changes(obj, view, redraws):
+    """Median seconds of the overlay's draw callback in a redraw right after the object moved, a
+    colour changed, or (live mode) the live factor changed: what those changes cost the overlay."""
+    from bdinterp_blender.view import onion
+
+    def median(change):
+        onion.timings.clear()
+        for i in range(redraws):
+            change(i)
+            bpy.context.view_layer.update()  # the depsgraph handler sees it, as after a user's edit
+            redraw_seconds(1)
+        times = sorted(onion.timings)
+        return times[len(times) // 2] if times else None
+    out = {"draw_moved": median(lambda i: setattr(obj, "location", (1e-3 * (i + 1), 0.0, 0.0))),
+           "draw_recoloured": median(lambda i: setattr(view, "opacity", 0.5 + 0.01 * (i % 2)))}
+    if "--live" in ARGS:
+        out["draw_live"] = median(lambda i: setattr(obj.bdi, "live_factor", 0.5 + 1e-3 * (i + 1)))
+    return out
 
 
 def main():

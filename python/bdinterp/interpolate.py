@@ -114,12 +114,15 @@ class Interpolator:
     folds: inputs with folded faces (folded_faces) are solved without their fold region, which is
     filled in so that the folded keys are reached (docs/FOLDS.md); False: the paper's method on the
     whole mesh (folded keys are then missed). joints: True, pieces (loose parts) that overlap in the
-    base shape and turn against each other about a pin inside the overlap, or are glued (no relative
-    motion), stay joined: a tree of the best joints rooted at the still pieces (else the one that
-    moves least), each child placed by its parent's in-between and turned by its blended rotation
-    relative to it (docs/JOINTS.md; stats.joints counts them, joints() lists them); a sequence of
-    (parent vertex, child vertex, point) links: that tree as given (e.g. an armature's bones; each
-    piece by any of its vertices, point in the base shape like the shapes' coordinates); False:
+    base shape (or come within the pins' reach) and turn against each other about a pin in or near
+    both, or are glued, or slide (no relative turn, or a pivot the rig translates), stay joined: a
+    tree of the best joints rooted at the still pieces (else the piece whose own motion is best a
+    turn about a point inside it), each child placed by its parent's in-between and turned by its
+    blended rotation relative to it (docs/JOINTS.md; stats.joints counts them, joints() lists them,
+    joint_roots() the roots); a sequence of (parent vertex, child vertex, point) links: that tree as
+    given (e.g. an armature's bones; each piece by any of its vertices, point in the base shape like
+    the shapes' coordinates; parent vertex -1: the child's piece is a root whose point travels on
+    the chord between the shapes, as a root bone's offset does); False:
     every piece is placed on its own. planarity: for 3D shapes, how far (relative to a shape's
     largest extent) a vertex may lie off its piece's plane; layers: the Layers of 3D shapes the
     caller has fitted already (e.g. Layers.fit with its own planarity), used without a second fit.
@@ -214,10 +217,13 @@ class Interpolator:
     def joints(self):
         """The joints between pieces (parents first): dicts with parent and child (each piece by its
         lowest vertex), point ((2,) or, for 3D input, (3,) on the child's plane in the base shape),
-        kind ("pin": the child turns about the point against its parent in every input; "glued": it
-        moves with its parent; "given": a link of joints=[...]), pin (both pieces carry the point to
+        kind ("pin": the child turns about the point, inside both pieces or just outside within
+        the pins' reach, against its parent in every input; "glued": it moves with its parent;
+        "slide": it moves against its parent at an overlap point, without turning or about a pivot
+        the keys translate; "given": a link of joints=[...]), pin (both pieces carry the point to
         one place in every input, to 0.1 % of the size) and fit (that largest gap over the inputs,
-        for "glued" the largest relative motion, relative to the size). Empty with joints=False."""
+        for "glued" and "slide" the largest relative motion, relative to the size). Empty with
+        joints=False; joint_roots() gives each tree's root."""
         out = self._core.joints()
         for j in out:
             if self._layers is not None:
@@ -225,6 +231,17 @@ class Interpolator:
                 depth = self._layers.depth[base, self._layers.labels[j["child"]]]
                 j["point"] = self._plane.to_space(j["point"]) + depth * self._plane.normal
         return out
+
+    def joint_roots(self):
+        """The root of every tree of joints (a piece in no joint is a tree of its own): dicts with
+        piece (its lowest vertex), reason ("anchor": it holds the vertex anchor; "still"; "travels":
+        it moves without turning; "turns": its own motion is the best turn about a point inside or
+        near it of its tree; "given": no given link holds it; "path": a link with parent vertex -1
+        gives its path), point (for "turns", the fixed point of its own motion in the base shape;
+        2D, in the plane's coordinates for 3D input) and rank (for "turns": that point's distance
+        outside the piece over the pins' reach times the piece's size, plus its largest turn / pi).
+        Empty with joints=False."""
+        return self._core.joint_roots()
 
     def folded_faces(self, shape):
         """(j,) indices of the faces of input `shape` that are folded (reversed) relative to the

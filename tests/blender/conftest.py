@@ -145,6 +145,51 @@ def fcurves(anim):
     return all_fcurves(anim)
 
 
+def new_armature(bones, at):
+    """Armature object 'Rig' at `at` (3,) with bones [(name, parent or None, head (2,), tail (2,))]
+    in world x, y at z = 0, parents before children."""
+    arm = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
+    bpy.context.scene.collection.objects.link(arm)
+    arm.location = at
+    bpy.context.view_layer.objects.active = arm
+    bpy.ops.object.mode_set(mode='EDIT')
+    for name, parent, head, tail in bones:
+        bone = arm.data.edit_bones.new(name)
+        bone.head = (head[0] - at[0], head[1] - at[1], -at[2])
+        bone.tail = (tail[0] - at[0], tail[1] - at[1], -at[2])
+        bone.parent = arm.data.edit_bones[parent] if parent else None
+    bpy.ops.object.mode_set(mode='OBJECT')
+    return arm
+
+
+def bone_pieces(arm, pieces, parented=False):
+    """One object per piece ((name, (V (n, 2), F)) in draw order, at depth 0.01 per piece), all
+    its vertices in the vertex group of its bone (named like the piece) with an Armature modifier
+    (parented: the object's parent is its bone instead), as cut-out rigs are made."""
+    import mathutils
+    objs = []
+    for k, (name, (V, F)) in enumerate(pieces):
+        obj = mesh_object(name, np.c_[V, np.full(len(V), 0.01 * k)], F)
+        if parented:
+            obj.parent, obj.parent_type, obj.parent_bone = arm, 'BONE', name
+            bpy.context.view_layer.update()
+            obj.matrix_world = mathutils.Matrix.Identity(4)
+        else:
+            obj.vertex_groups.new(name=name).add(list(range(len(V))), 1.0, 'REPLACE')
+            obj.modifiers.new("Armature", 'ARMATURE').object = arm
+        objs.append(obj)
+    return objs
+
+
+def world(objs):
+    """(n, 3) the objects' evaluated vertices in world space, one object after the other."""
+    out = []
+    for obj in objs:
+        m = np.array(obj.matrix_world)
+        out.append(evaluated_co(obj) @ m[:3, :3].T + m[:3, 3])
+    return np.concatenate(out)
+
+
 def grid(nx, ny, w, h, x0=0.0, y0=0.0):
     """Quad grid in XY: (verts (n,3), quads)."""
     xs, ys = np.meshgrid(np.linspace(x0, x0 + w, nx + 1), np.linspace(y0, y0 + h, ny + 1))

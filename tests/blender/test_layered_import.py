@@ -258,10 +258,10 @@ def raised_arm(tmp_path):
 
 
 def test_onion_skins_tint_only_the_pieces_that_move(addon, tmp_path):
-    from bdinterp_blender.view import motion_trails, onion
+    from bdinterp_blender.view import ghosts, motion_trails
     objs, _ = raised_arm(tmp_path)
     path = motion_trails.Path(objs, target="Raise", with_solver=False)
-    faces = onion.moving_faces(path)
+    faces = ghosts.moving_faces(path)
     first = [o.name for o in path.objs].index("arm")
     sizes = np.cumsum([0] + [len(o.data.vertices) for o in path.objs])
     arm = (sizes[first] <= faces) & (faces < sizes[first + 1])

@@ -13,7 +13,7 @@ import mathutils
 import numpy as np
 import pytest
 
-from conftest import ROOT, add_key, evaluated_co, mesh_object
+from conftest import ROOT, add_key, bone_pieces, new_armature, world
 
 sys.path.insert(0, os.path.join(ROOT, "tests", "python"))
 from cutout_meshes import rectangle  # noqa: E402
@@ -25,40 +25,20 @@ RIG_AT = (0.7, -0.4, 0.3)  # the armature object away from the origin: its space
 
 def armature():
     """The bones: each from its pin (the root: from the torso's centre) towards its piece's centre."""
-    arm = bpy.data.objects.new("Rig", bpy.data.armatures.new("Rig"))
-    bpy.context.scene.collection.objects.link(arm)
-    arm.location = RIG_AT
-    bpy.context.view_layer.objects.active = arm
-    bpy.ops.object.mode_set(mode='EDIT')
+    bones = []
     for name in NAMES:
         (x0, y0, w, h), parent, pin = RIG[name]
         centre = np.array([x0 + w / 2, y0 + h / 2])
         head = np.array(pin) if pin else centre
         tail = centre if np.linalg.norm(centre - head) > 0.1 else head + [0.0, 0.5]
-        bone = arm.data.edit_bones.new(name)
-        bone.head = (*(head - RIG_AT[:2]), -RIG_AT[2])
-        bone.tail = (*(tail - RIG_AT[:2]), -RIG_AT[2])
-        bone.parent = arm.data.edit_bones[parent] if parent else None
-    bpy.ops.object.mode_set(mode='OBJECT')
-    return arm
+        bones.append((name, parent, head, tail))
+    return new_armature(bones, RIG_AT)
 
 
 def pieces(arm, parented=False):
-    """One object per piece, at depth 0.01 per piece in draw order, its vertices all in its
-    bone's vertex group, an Armature modifier (parented: the object's parent is its bone)."""
-    objs = []
-    for k, name in enumerate(NAMES):
-        V, F = rectangle(*RIG[name][0], 0.2, seed=k)
-        obj = mesh_object(name, np.c_[V, np.full(len(V), 0.01 * k)], F)
-        if parented:
-            obj.parent, obj.parent_type, obj.parent_bone = arm, 'BONE', name
-            bpy.context.view_layer.update()
-            obj.matrix_world = mathutils.Matrix.Identity(4)
-        else:
-            obj.vertex_groups.new(name=name).add(list(range(len(V))), 1.0, 'REPLACE')
-            obj.modifiers.new("Armature", 'ARMATURE').object = arm
-        objs.append(obj)
-    return objs
+    """One object per piece, moved by its bone (conftest.bone_pieces)."""
+    return bone_pieces(arm, [(name, rectangle(*RIG[name][0], 0.2, seed=k)) for k, name in enumerate(NAMES)],
+                       parented)
 
 
 def pose(arm, angles, t):
@@ -68,15 +48,6 @@ def pose(arm, angles, t):
         pb.rotation_mode = 'QUATERNION'
         pb.rotation_quaternion = mathutils.Quaternion(axis, math.radians(t * angles.get(pb.name, 0.0)))
     bpy.context.view_layer.update()
-
-
-def world(objs):
-    """(n, 3) the objects' evaluated vertices in world space, one object after the other."""
-    out = []
-    for obj in objs:
-        m = np.array(obj.matrix_world)
-        out.append(evaluated_co(obj) @ m[:3, :3].T + m[:3, 3])
-    return np.concatenate(out)
 
 
 def character(angles, one_object=False, more=None, parented=False):

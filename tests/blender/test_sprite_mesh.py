@@ -108,3 +108,30 @@ def test_spacing_0_is_said_in_words(addon):
     bpy.context.object.data.materials.append(mat)
     assert sprite_mesh.spacing_zero("FACE", bpy.context.object) == \
         "0: from the preset (24 edges across = 10 px)"
+
+
+def test_the_dialog_meshes_once_per_changed_setting(addon):
+    """The dialog's draw() runs on every redraw: the triangle count it shows is meshed once per
+    request, and Apply uses that mesh (no third run); a changed setting meshes again."""
+    from bdinterp_blender.files import sprite_mesh
+    obj = image_plane("Ring", "ring", (0, 0, 0))
+    params = dict(threshold=0.5, spacing=None, detail=1.0, padding=1.0, min_angle=25.0)
+    before = sprite_mesh.counters["meshed"]
+    first = sprite_mesh.preview(obj, params)
+    for _ in range(5):  # redraws
+        assert sprite_mesh.preview(obj, params) is first
+    assert sprite_mesh.counters["meshed"] == before + 1
+    other = sprite_mesh.preview(obj, dict(params, threshold=0.25))
+    assert sprite_mesh.counters["meshed"] == before + 2 and other is not first
+    assert sprite_mesh.preview(obj, params) is first  # back to the first setting: kept
+    # the same request as plan() makes it: the same mesh
+    again = sprite_mesh.plan(obj, **params)
+    assert all(np.array_equal(a, b) for a, b in zip(again, first))
+    with pytest.raises(ValueError, match="has no material with an image texture"):
+        bare = bpy.data.objects.new("Bare", bpy.data.meshes.new("Bare"))
+        bare.data.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
+        sprite_mesh.preview(bare, params)
+    count = sprite_mesh.counters["meshed"]
+    with pytest.raises(ValueError, match="has no material"):  # the error is kept too
+        sprite_mesh.preview(bare, params)
+    assert sprite_mesh.counters["meshed"] == count

@@ -170,6 +170,21 @@ TEST_F(Chain, AVertexAnchorRootsItsGroup) {
   EXPECT_EQ(I.last_stats().joints, 2);
 }
 
+TEST_F(Chain, WithoutTheTorsoTheArmRootsTheChain) {
+  // Joined to nothing still, the chain is rooted at the piece whose own motion is a turn about a
+  // point inside it (the arm, about the shoulder), not at the forearm, which turns more.
+  const Eigen::Index n = 2 * arm;
+  Faces G = F.bottomRows(2 * m.F.rows()).array() - static_cast<int>(torso);
+  const Positions X0 = V.bottomRows(n), X1 = T.bottomRows(n);
+  Interpolator I({X0, X1}, G);
+  for (double t : {0.25, 0.5, 0.75}) EXPECT_LT((I.at(t) - posed(t).bottomRows(n)).cwiseAbs().maxCoeff(), 1e-9) << t;
+  const std::vector<Interpolator::RootInfo> roots = I.joint_roots();
+  ASSERT_EQ(roots.size(), 1u);
+  EXPECT_EQ(roots[0].vertex, 0);
+  EXPECT_EQ(roots[0].reason, RootReason::Turns);
+  EXPECT_LT((roots[0].point - shoulder).norm(), 1e-9);
+}
+
 TEST(Cutout, EyesStayOnATiltedHead) {
   // A 4 x 5 head and two eyes laid over it, all tilted by 40 degrees about the neck (the middle of
   // the head's lower edge): every in-between is the drawing tilted by 40 t (before: the eyes slid

@@ -2,9 +2,14 @@
 replaced by one made from the image's alpha (bdinterp.mesh_from_image), keeping the object's
 transform, materials, size and place, with UVs onto the image. All objects are computed before any
 is changed, so a failure changes none."""
+from collections import Counter
+
 import bpy
 
 from ..core import load_core
+
+# Work done, for the tests: 'meshed' images (calls of the core's mesher).
+counters = Counter()
 
 # Presets: (label, description, parameters); spacing_divisions: edges across the sprite's larger side.
 PRESETS = {
@@ -64,6 +69,7 @@ def plan(obj, **params):
     if image is None:
         raise ValueError("%r has no material with an image texture" % obj.name)
     bd = load_core()
+    counters["meshed"] += 1
     try:
         mesh = bd.mesh_from_image(alpha_of(image), **params)
     except (bd.InvalidInputError, RuntimeError) as e:
@@ -124,6 +130,34 @@ def spacing_zero(preset, obj):
     return "0: from the preset (%d edges across%s)" % (divisions, size)
 
 
+_previews = {}   # the dialog's plans: request (preview_key) -> plan or the error's message
+
+
+def preview_key(obj, params):
+    """What plan(obj, **params) depends on, cheap to compare: the object, its mesh's vertices
+    (their bounding box places the new mesh), its image (name, size; its pixels are taken as
+    unchanged while a dialog is open) and the parameters."""
+    image = image_of(obj) if obj is not None and obj.type == 'MESH' else None
+    return (getattr(obj, "name", None), getattr(getattr(obj, "data", None), "name", None),
+            len(obj.data.vertices) if image is not None else 0,
+            (image.name, tuple(image.size)) if image is not None else None, tuple(sorted(params.items())))
+
+
+def preview(obj, params):
+    """plan(obj, **params), made once per request while the dialog is open (its draw() runs on
+    every redraw); ValueError as plan's."""
+    key = preview_key(obj, params)
+    if key not in _previews:
+        try:
+            _previews[key] = plan(obj, **params)
+        except (ValueError, AttributeError, RuntimeError) as e:
+            _previews[key] = str(e)
+    found = _previews[key]
+    if isinstance(found, str):
+        raise ValueError(found)
+    return found
+
+
 def _apply_preset(self, context):
     if self.preset in PRESETS:
         values = PRESETS[self.preset][2]
@@ -152,6 +186,7 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
         return any(o.type == 'MESH' for o in context.selected_objects)
 
     def invoke(self, context, event):
+        _previews.clear()  # the image or mesh may have changed since the last dialog
         return context.window_manager.invoke_props_dialog(self)
 
     def draw(self, context):
@@ -161,18 +196,20 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
             if name == "spacing" and self.spacing == 0:  # say what 0 means, not only "0.00"
                 self.layout.label(text=spacing_zero(self.preset, obj), icon='INFO')
         try:  # the triangle count before applying (the active object's)
-            count = len(plan(obj, **params_of(self, obj))[1])
+            count = len(preview(obj, params_of(self, obj))[1])
             self.layout.label(text="%s: %d triangles" % (obj.name, count))
-        except (ValueError, AttributeError, RuntimeError) as e:
+        except ValueError as e:
             self.layout.label(text=str(e), icon='ERROR')
 
     def execute(self, context):
         objs = [o for o in context.selected_objects if o.type == 'MESH']
-        try:
-            plans = [plan(o, **params_of(self, o)) for o in objs]
-        except (ValueError, RuntimeError) as e:
+        try:  # the dialog's plans are reused (the redo panel's are made afresh)
+            plans = [preview(o, params_of(self, o)) for o in objs]
+        except ValueError as e:
             self.report({'ERROR'}, str(e))
             return {'CANCELLED'}
+        finally:
+            _previews.clear()
         for o, p in zip(objs, plans):
             write(o, *p)
         self.report({'INFO'}, "Mesh from Image: %d objects, %d triangles"

@@ -1,8 +1,8 @@
 """Live mode: the exact interpolation/blend recomputed whenever its inputs change.
 
-The result goes into the shape key 'bdi.live' (relative to the source, value 1).  Two handlers:
-frame_change_post (playback, `blender -b file.blend -a`, scrubbing) and depsgraph_update_post
-(the factor or a weight changed directly, by a driver, by an F-curve edit; undo).  Per object a
+The result goes into the shape key 'bdi.live' (relative to the source, value 1), on every frame
+change (playback, `blender -b file.blend -a`, scrubbing) and depsgraph update (the factor or a
+weight changed directly, by a driver, by an F-curve edit; undo), both told by changes.py.  Per object a
 State caches the validated shapes and the precomputed Interpolator; a frame then costs the
 solve, a comparison of the factor/weights with the last ones written, and the foreach_set.  The
 cache is rebuilt when a setting changes and re-checked (the input keys re-read and compared)
@@ -20,6 +20,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import character
+from .. import changes
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..names import LIVE_KEY, LIVE_WARNING
@@ -220,6 +221,7 @@ def write_key(obj, source, co, name=LIVE_KEY):
         kb.value = 1.0
     mesh_io.write_co(kb, co)
     key.update_tag()
+    changes.wrote(key)
 
 
 def turn_off(obj, exc):
@@ -311,33 +313,21 @@ def _keys_edited(obj, state, edited):
                and o.data.shape_keys.name in edited for o in _objects(obj, state))
 
 
-def _edited_keys(depsgraph):
-    return {u.id.original.name for u in depsgraph.updates
-            if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
-
-
 def _on_update(obj, edited, depsgraph):
     state = _states.get(obj.name)
     if state is not None and _keys_edited(obj, state, edited):
+        # Our own write of the live key is reported too (at the next update), and an edit made
+        # by a script before this evaluation looks the same: re-check (the input keys'
+        # foreach_get, ~0.7 ms per key at 20k vertices) rather than trust a flag.  Writes made on
+        # a frame change (playback) are not reported: playback never pays for it.
         state.dirty = True
     update(obj, depsgraph)
 
 
-@persistent
-def on_frame_change(scene, depsgraph=None):
-    edited = _edited_keys(depsgraph) if depsgraph is not None else set()
-    for obj in _live_objects(scene):  # writes made in this handler are not reported: an edit is not ours
-        _guarded(obj, lambda obj=obj: _on_update(obj, edited, depsgraph))
-
-
-@persistent
-def on_depsgraph_update(scene, depsgraph):
-    # Our own write of the live key is reported here too, indistinguishable from an edit made by a
-    # script before this evaluation: re-check (the input keys' foreach_get, ~0.7 ms per key at 20k
-    # vertices) rather than trust a flag.
-    edited = _edited_keys(depsgraph)
+def on_changes(scene, depsgraph, changed):
+    """Every frame change and depsgraph update (changes.py): recompute what changed."""
     for obj in _live_objects(scene):
-        _guarded(obj, lambda obj=obj: _on_update(obj, edited, depsgraph))
+        _guarded(obj, lambda obj=obj: _on_update(obj, changed.keys, depsgraph))
 
 
 @persistent
@@ -355,9 +345,7 @@ def on_load(*_args):
             print("bdinterp: %s in scene %s %s" % (obj.name, scene.name, LIVE_WARNING))
 
 
-HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
-            (bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
+HANDLERS = ((bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
             (bpy.app.handlers.load_post, on_load))
 
 
@@ -379,9 +367,11 @@ def remove_handlers(pairs):
 
 def register():
     add_handlers(HANDLERS)
+    changes.subscribe(0, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     remove_handlers(HANDLERS)
     _states.clear()
     _failed.clear()

@@ -1,5 +1,6 @@
 """Pose grids follow their parameters live: the blend is recomputed whenever a parameter's value
-changes (set, keyframed, driven: frame change, depsgraph update, render) and after undo.
+changes (set, keyframed, driven: frame change, depsgraph update, render; both told by
+changes.py) and after undo.
 
 Per owner object (the one whose Object.bdi_grids holds the groups) a State caches each member's
 PoseBlender (every group combined, one precomputed Interpolator per object) and the raw key data
@@ -11,6 +12,7 @@ Object.bdi_grid_error and printed; the grid then waits for its definition or its
 import bpy
 from bpy.app.handlers import persistent
 
+from .. import changes
 from ..keys import live as live_mode
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
@@ -198,14 +200,12 @@ def _grid_objects(scene):
     return [o for o in scene.objects if o.type == 'MESH' and len(o.bdi_grids)]
 
 
-def _mark_edited(depsgraph):
+def _mark_edited(edited):
     """Mark the States whose objects' Keys were updated by someone else dirty (their input keys
     are then re-read and compared). Our own writes are reported too; one reported just after
     our write is taken as ours: re-reading nine keys would cost more than the blend (8 ms of
     36 at 5k vertices). So an input key edited by a script together with a parameter change, in
-    one update, is noticed at the next key edit or undo."""
-    edited = {u.id.original.name for u in depsgraph.updates
-              if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
+    one update, is noticed at the next key edit or undo. edited: names of the Keys updated."""
     for state in _states.values():
         keys = {getattr(bpy.data.objects[m.name].data.shape_keys, "name", None)
                 for m in state.members if bpy.data.objects.get(m.name) is not None}
@@ -214,19 +214,12 @@ def _mark_edited(depsgraph):
         state.pending.clear()
 
 
-@persistent
-def on_frame_change(scene, depsgraph=None):
+def on_changes(scene, depsgraph, changed):
+    """Every frame change and depsgraph update (changes.py)."""
     if depsgraph is not None:
-        _mark_edited(depsgraph)
-    for obj in _grid_objects(scene):
-        _guarded(obj, depsgraph, reported=False)  # writes in this handler are not reported
-
-
-@persistent
-def on_depsgraph_update(scene, depsgraph):
-    _mark_edited(depsgraph)
-    for obj in _grid_objects(scene):
-        _guarded(obj, depsgraph)
+        _mark_edited(changed.keys)
+    for obj in _grid_objects(scene):  # writes on a frame change are not reported
+        _guarded(obj, depsgraph, reported=not changed.frame)
 
 
 @persistent
@@ -242,16 +235,16 @@ def on_load(*_args):
     _failed.clear()
 
 
-HANDLERS = ((bpy.app.handlers.frame_change_post, on_frame_change),
-            (bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
+HANDLERS = ((bpy.app.handlers.undo_post, on_undo), (bpy.app.handlers.redo_post, on_undo),
             (bpy.app.handlers.load_post, on_load))
 
 
 def register():
     live_mode.add_handlers(HANDLERS)
+    changes.subscribe(0, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     live_mode.remove_handlers(HANDLERS)
     _states.clear()

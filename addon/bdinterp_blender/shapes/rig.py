@@ -2,11 +2,12 @@
 
 A piece's bone is the bone whose vertex group holds most of the piece's weight (an Armature
 modifier's), else the bone the object is parented to. A piece hangs from the piece of the nearest
-ancestor bone that has one, pinned at the head of the bone below that ancestor, in the source key
-(reads bpy data, never writes it; docs/JOINTS.md).
+ancestor bone that has one, pinned at the head of the bone below that ancestor, in the source key;
+pieces whose bones meet only at bones without a piece are joined through them, and the root piece
+follows its bone's path (reads bpy data, never writes it; docs/JOINTS.md).
 """
 
-from .mesh_io import BakeError
+from .mesh_io import BakeError, group_weights
 
 MODES = ("auto", "bones", "pins", "off")
 
@@ -54,7 +55,7 @@ def piece_bones(members, labels):
     import numpy as np
     out, arm = [], None
     for m in members:
-        weights = _group_weights(m.obj)
+        weights = group_weights(m.obj)[0]
         local = labels[m.offset:m.offset + len(m.source)]
         for p in np.unique(local):
             rows = np.flatnonzero(local == p)
@@ -68,16 +69,6 @@ def piece_bones(members, labels):
             arm = found[0]
             out.append((found[1], m, rows))
     return arm, out
-
-
-def _group_weights(obj):
-    """(n, groups) vertex-group weights of obj's mesh (vertex groups have no foreach access)."""
-    import numpy as np
-    W = np.zeros((len(obj.data.vertices), max(1, len(obj.vertex_groups))))
-    for v in obj.data.vertices:
-        for g in v.groups:
-            W[v.index, g.group] = g.weight
-    return W
 
 
 def _bone_of(obj, weights, rows):
@@ -101,23 +92,40 @@ def _bone_of(obj, weights, rows):
 def links(arm, bones, members, labels):
     """[(parent vertex, child vertex, point)]: each piece under the piece of its bone's nearest
     ancestor that has one (pieces of one bone: under the largest), pinned at the head of the
-    bone just below that ancestor, mapped into the source key; a piece with none is a root."""
+    bone just below that ancestor, mapped into the source key. Pieces with no such ancestor whose
+    bones meet at a bone without a piece (a hip, a root) hang from the one of them whose bone lies
+    nearest that bone, at the head of their own bone (the offset between them, which a rig that
+    translates the hip changes, is blended); that piece follows its top bone's path: a link with
+    parent -1 at the head of its own bone."""
     owner = {}
     for k, (bone, _, rows) in sorted(enumerate(bones), key=lambda e: -len(e[1][2])):
         owner.setdefault(bone, k)
-    out = []
+    out, tops = [], {}
     for k, (bone, member, rows) in enumerate(bones):
         below, up = arm.data.bones[bone], arm.data.bones[bone].parent
         if owner[bone] != k:
             up = below
         while up is not None and up.name not in owner:
             below, up = up, up.parent
-        if up is None:
+        if up is None:  # a root among the pieces: grouped by the top bone of its chain
+            tops.setdefault(below.name, []).append(k)
             continue
-        parent = bones[owner[up.name]]
-        point = member.to_solved(_head_in_source(arm, below, member, rows))[0]
-        out.append((int(parent[1].offset + parent[2][0]), int(member.offset + rows[0]), point))
+        out.append(_link(arm, bones, owner[up.name], k, below))
+    for group in tops.values():
+        main = min(group, key=lambda k: (len(arm.data.bones[bones[k][0]].parent_recursive),
+                                         -len(bones[k][2]), k))
+        out.append(_link(arm, bones, None, main, arm.data.bones[bones[main][0]]))
+        out += [_link(arm, bones, main, k, arm.data.bones[bones[k][0]]) for k in group if k != main]
     return out
+
+
+def _link(arm, bones, parent, child, bone):
+    """(parent piece's first vertex, or -1 for a root's path; child's; the head of `bone` in the
+    child's source key, in the solved mesh's coordinates)."""
+    _, member, rows = bones[child]
+    point = member.to_solved(_head_in_source(arm, bone, member, rows))[0]
+    first = -1 if parent is None else int(bones[parent][1].offset + bones[parent][2][0])
+    return (first, int(member.offset + rows[0]), point)
 
 
 def _head_in_source(arm, bone, member, rows):

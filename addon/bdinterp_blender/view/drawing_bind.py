@@ -2,25 +2,40 @@
 
 bind_drawing stores, per stroke point, its rest position and radius and the triangle of the
 mesh's rest shape (reference key, world space) that holds it (a character of several objects:
-their triangles one object after the other, so a point goes to whichever piece holds it):
-barycentric coordinates in the mesh's plane (a point outside the mesh: the triangle it is least
-outside of, by that triangle's affine map) and the height above the plane.  A handler of the
-add-on then writes every point from the evaluated mesh (slider, live mode, baked keys, render),
-the radius scaled with the triangle's scale; unbind_drawing writes the rest positions and radii
-back.  Everything is stored in point attributes of the drawings, so a saved file keeps working.
+their triangles one object after the other, so a point goes to whichever piece holds it; found
+with a grid of buckets, locate.py): barycentric coordinates in the mesh's plane (a point outside
+the mesh: the nearby triangle it is least outside of, by that triangle's affine map), the height
+above the plane and the triangle's rest area.  On every change that moves a bound mesh
+(changes.py: slider, live mode, baked keys, render, the frame) the points are written from the
+evaluated mesh, the radius scaled with the triangle's scale; unbind_drawing writes the rest
+positions and radii back.  Everything is stored in point attributes of the drawings and a
+property of the object, so a saved file keeps working; what an update needs is read from them
+once and kept (Binding).  A bound mesh whose faces change (edited in Edit Mode, a modifier that
+adds vertices) cannot carry the points: they are unbound, with a warning saying why.
 """
+
+import zlib
+from collections import Counter
 
 import bpy
 from bpy.app.handlers import persistent
 
+from .. import changes
 from ..keys.character import members, to_local, to_world
 from ..shapes.mesh_io import BakeError, triangles
+from .locate import locate_2d, plane_basis
 
-BOUND = "bdi_bound_to"   # custom property of the Grease Pencil object: the mesh objects' names
-REST, RADIUS, TRI, BARY, HEIGHT = ("bdi_rest_position", "bdi_rest_radius", "bdi_tri", "bdi_bary",
-                                   "bdi_height")
+BOUND = "bdi_bound_to"        # custom property of the Grease Pencil object: the mesh objects' names
+TOPOLOGY = "bdi_bound_faces"  # ... and the faces they had when bound ('vertices:loops:crc' each)
+WARNING = "bdi_bind_warning"  # ... and why it was unbound, when the handler had to
+REST, RADIUS, TRI, BARY, HEIGHT, AREA = ("bdi_rest_position", "bdi_rest_radius", "bdi_tri",
+                                         "bdi_bary", "bdi_height", "bdi_rest_area")
 ATTRS = ((REST, 'FLOAT_VECTOR'), (RADIUS, 'FLOAT'), (TRI, 'INT'), (BARY, 'FLOAT_VECTOR'),
-         (HEIGHT, 'FLOAT'))
+         (HEIGHT, 'FLOAT'), (AREA, 'FLOAT'))
+DEFAULT_RADIUS = 0.01  # Grease Pencil v3's radius of a point without a radius attribute
+
+# Work done, for the tests: 'located' points, 'loaded' Bindings read from the attributes.
+counters = Counter()
 
 
 def why_not(gp_obj):
@@ -36,9 +51,13 @@ def drawings(gp_obj):
     return [f.drawing for layer in gp_obj.data.layers for f in layer.frames if f.drawing is not None]
 
 
-def read(drawing, name, width):
+def read(drawing, name, width, default=None):
+    """The point attribute `name` (width 1 or 3) of drawing; `default` for every point when the
+    drawing has none (Grease Pencil v3 stores radius and opacity only once they are set)."""
     import numpy as np
-    attr = drawing.attributes[name]
+    attr = drawing.attributes.get(name)
+    if attr is None and default is not None:
+        return np.full(len(drawing.attributes["position"].data), default, dtype=np.float32)
     kind = attr.data_type
     arr = np.empty(len(attr.data) * width, dtype=np.int32 if kind == 'INT' else np.float32)
     attr.data.foreach_get("vector" if width == 3 else "value", arr)
@@ -53,25 +72,46 @@ def write(drawing, name, kind, values):
                           np.ascontiguousarray(values, dtype=dtype).ravel())
 
 
-def world_mesh(mesh_objs, depsgraph=None):
-    """(vertices (n, 3) world coordinates as shown, triangles (m, 3)) of the objects one after
-    the other; rest (no depsgraph): their reference keys."""
+def topology(obj):
+    """'vertices:loops:crc32 of the loops' vertices' of obj's mesh: changes when its faces do."""
+    import numpy as np
+    loops = np.empty(len(obj.data.loops), dtype=np.int32)
+    obj.data.loops.foreach_get("vertex_index", loops)
+    return "%d:%d:%08x" % (len(obj.data.vertices), len(loops), zlib.crc32(loops.tobytes()))
+
+
+def mesh_faces(mesh_objs):
+    """(triangles (m, 3) of the objects one after the other, their vertex counts)."""
+    import numpy as np
+    tris, offset, sizes = [], 0, []
+    for obj in mesh_objs:
+        tris.append(triangles(obj.data)[0] + offset)
+        sizes.append(len(obj.data.vertices))
+        offset += sizes[-1]
+    return np.concatenate(tris), sizes
+
+
+def rest_mesh(mesh_objs):
+    """(world vertices (n, 3) of the objects' reference keys one after the other, triangles)."""
     import numpy as np
     from ..shapes.mesh_io import read_co
-    points, tris, offset = [], [], 0
+    faces, _ = mesh_faces(mesh_objs)
+    return np.concatenate([to_world(o, read_co(o.data.shape_keys.reference_key)) for o in mesh_objs]), faces
+
+
+def shown_mesh(mesh_objs, depsgraph):
+    """(n, 3) world vertices of the objects as evaluated, one after the other; None if one of them
+    shows another number of vertices than its mesh has (a modifier that adds some)."""
+    import numpy as np
+    points = []
     for obj in mesh_objs:
-        faces, _ = triangles(obj.data)
-        if depsgraph is None:
-            co = to_world(obj, read_co(obj.data.shape_keys.reference_key))
-        else:
-            ev = obj.evaluated_get(depsgraph)
-            co = np.empty(len(ev.data.vertices) * 3, dtype=np.float32)
-            ev.data.vertices.foreach_get("co", co)
-            co = to_world(ev, co.reshape(-1, 3).astype(np.float64))
-        points.append(co)
-        tris.append(faces + offset)
-        offset += len(co)
-    return np.concatenate(points), np.concatenate(tris)
+        ev = obj.evaluated_get(depsgraph)
+        if len(ev.data.vertices) != len(obj.data.vertices):
+            return None
+        co = np.empty(len(ev.data.vertices) * 3, dtype=np.float32)
+        ev.data.vertices.foreach_get("co", co)
+        points.append(to_world(ev, co.reshape(-1, 3).astype(np.float64)))
+    return np.concatenate(points)
 
 
 def bound_meshes(gp_obj):
@@ -82,51 +122,36 @@ def bound_meshes(gp_obj):
     return objs if objs and all(o is not None and o.type == 'MESH' for o in objs) else None
 
 
-def _frames(X, faces):
-    """Per triangle: origin (m, 3), edge vectors e1, e2 (m, 3), unit normal (m, 3), area (m,)."""
-    import numpy as np
-    a, e1, e2 = X[faces[:, 0]], X[faces[:, 1]] - X[faces[:, 0]], X[faces[:, 2]] - X[faces[:, 0]]
-    n = np.cross(e1, e2)
-    area = np.linalg.norm(n, axis=1)
-    return a, e1, e2, n / np.maximum(area, 1e-300)[:, None], area
-
-
 def locate(P, X, faces):
     """(triangle (p,), barycentric (p, 3), height (p,)) of world points P on the mesh X."""
     import numpy as np
-    a, e1, e2, normal, _ = _frames(X, faces)
-    plane = normal.sum(axis=0)
-    plane /= np.linalg.norm(plane)
-    u = np.cross(plane, [1.0, 0.0, 0.0] if abs(plane[0]) < 0.9 else [0.0, 1.0, 0.0])
-    u /= np.linalg.norm(u)
-    v = np.cross(plane, u)
-    basis = np.stack([u, v], axis=1)
-    T = np.stack([e1 @ basis, e2 @ basis], axis=2)              # (m, 2, 2)
-    Tinv = np.linalg.inv(T)
-    tri, bary = np.empty(len(P), dtype=np.int64), np.empty((len(P), 3))
-    for s in range(0, len(P), 64):                              # (64, m) at a time
-        d = (P[s:s + 64, None, :] - a[None]) @ basis            # (q, m, 2)
-        l12 = np.einsum("mij,qmj->qmi", Tinv, d)
-        lam = np.concatenate([1.0 - l12.sum(axis=2, keepdims=True), l12], axis=2)
-        best = np.argmax(lam.min(axis=2), axis=1)                # inside, or least outside
-        tri[s:s + 64], bary[s:s + 64] = best, lam[np.arange(len(best)), best]
-    height = np.einsum("pi,pi->p", P - (bary[:, :, None] * X[faces[tri]]).sum(axis=1), normal[tri])
+    C = X[faces]
+    normal = np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0])
+    normal /= np.maximum(np.linalg.norm(normal, axis=1), 1e-300)[:, None]
+    basis = plane_basis(normal)
+    tri, bary = locate_2d(P @ basis, C @ basis)
+    height = np.einsum("pi,pi->p", P - np.einsum("pi,pij->pj", bary, C[tri]), normal[tri])
+    counters["located"] += len(P)
     return tri, bary, height
 
 
-def place(X, faces, tri, bary, height, rest_area):
-    """(world positions (p, 3), radius scale (p,)) of bound points on the mesh shape X."""
+def place(C, bary, height, rest_area):
+    """(world positions (p, 3), radius scale (p,)) of bound points whose triangles' corners are
+    C (p, 3, 3) in the mesh as shown."""
     import numpy as np
-    _, _, _, normal, area = _frames(X, faces[tri])  # noqa -- per point's own triangle
-    pos = (bary[:, :, None] * X[faces[tri]]).sum(axis=1) + height[:, None] * normal
+    n = np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0])
+    area = np.sqrt(np.einsum("pi,pi->p", n, n))
+    lift = height / np.maximum(area, 1e-300)
+    pos = np.einsum("pi,pij->pj", bary, C) + lift[:, None] * n
     return pos, np.sqrt(area / np.maximum(rest_area, 1e-300))
 
 
 def bind_drawing(gp_obj, mesh_obj):
     """Bind every stroke point of gp_obj (all layers and frames) to the rest shape of mesh_obj,
     a mesh object or a list of them (a character: each point to the nearest triangle of any of
-    them); from then on the strokes follow wherever the mesh is shown.  Returns the number of
-    points."""
+    them); from then on (at once) the strokes follow wherever the mesh is shown.  Returns the
+    number of points."""
+    import numpy as np
     reason = why_not(gp_obj)
     if reason:
         raise BakeError(reason)
@@ -136,7 +161,7 @@ def bind_drawing(gp_obj, mesh_obj):
             raise BakeError("%s is not a mesh with shape keys" % getattr(obj, "name", "No object"))
     if BOUND in gp_obj:
         unbind_drawing(gp_obj)
-    X, faces = world_mesh(objs)
+    X, faces = rest_mesh(objs)
     located = []
     for d in drawings(gp_obj):  # all computed before anything is written
         P = to_world(gp_obj, read(d, "position", 3).astype(float))
@@ -146,13 +171,21 @@ def bind_drawing(gp_obj, mesh_obj):
         if found is None:
             continue
         tri, bary, height = found
+        C = X[faces[tri]]
+        area = np.linalg.norm(np.cross(C[:, 1] - C[:, 0], C[:, 2] - C[:, 0]), axis=1)
         write(d, REST, 'FLOAT_VECTOR', read(d, "position", 3))
-        write(d, RADIUS, 'FLOAT', read(d, "radius", 1))
+        write(d, RADIUS, 'FLOAT', read(d, "radius", 1, DEFAULT_RADIUS))
         write(d, TRI, 'INT', tri)
         write(d, BARY, 'FLOAT_VECTOR', bary)
         write(d, HEIGHT, 'FLOAT', height)
+        write(d, AREA, 'FLOAT', area)
         count += len(P)
     gp_obj[BOUND] = [o.name for o in objs]
+    gp_obj[TOPOLOGY] = [topology(o) for o in objs]
+    if WARNING in gp_obj:
+        del gp_obj[WARNING]
+    _bindings.pop(gp_obj.name, None)
+    update(gp_obj, bpy.context.evaluated_depsgraph_get())  # on the mesh as shown now
     return count
 
 
@@ -164,43 +197,116 @@ def unbind_drawing(gp_obj):
         write(d, "position", 'FLOAT_VECTOR', read(d, REST, 3))
         write(d, "radius", 'FLOAT', read(d, RADIUS, 1))
         for name, _ in ATTRS:
-            d.attributes.remove(d.attributes[name])
-    if BOUND in gp_obj:
-        del gp_obj[BOUND]
+            if d.attributes.get(name) is not None:
+                d.attributes.remove(d.attributes[name])
+    for name in (BOUND, TOPOLOGY):
+        if name in gp_obj:
+            del gp_obj[name]
+    _bindings.pop(gp_obj.name, None)
     gp_obj.data.update_tag()
 
 
+class Binding:
+    """What updating one bound object needs, read once from its attributes: the meshes' names,
+    their triangles, and per drawing (the drawing, its points' triangles (p, 3) as vertex indices,
+    barycentric coordinates, heights, rest areas and radii)."""
+
+    def __init__(self, gp_obj, objs):
+        import numpy as np
+        self.names = [o.name for o in objs]
+        faces, _ = mesh_faces(objs)
+        self.drawings = []
+        for d in drawings(gp_obj):
+            if d.attributes.get(REST) is None:
+                continue
+            tri = read(d, TRI, 1).astype(np.int64)
+            self.drawings.append((d, faces[tri], read(d, BARY, 3).astype(float),
+                                  read(d, HEIGHT, 1).astype(float), read(d, AREA, 1).astype(float),
+                                  read(d, RADIUS, 1)))
+        self.pointers = [d.as_pointer() for d in drawings(gp_obj)]
+        counters["loaded"] += 1
+
+
+_bindings = {}   # Grease Pencil object name -> Binding
+_edited = set()  # Grease Pencil objects whose meshes were seen in Edit Mode: faces compared next
+
+
+def binding(gp_obj, objs):
+    """gp_obj's Binding (read again if its drawings or meshes are not those it was read from)."""
+    found = _bindings.get(gp_obj.name)
+    if found is None or found.names != [o.name for o in objs] \
+            or found.pointers != [d.as_pointer() for d in drawings(gp_obj)]:
+        found = _bindings[gp_obj.name] = Binding(gp_obj, objs)
+    return found
+
+
+def changed_faces(gp_obj, objs, full=True):
+    """Why the bound meshes cannot carry gp_obj's points any more ('' if they can): their faces
+    are not those they were bound with (full; else only their vertex and loop counts checked)."""
+    stored = list(gp_obj.get(TOPOLOGY, []))
+    if len(stored) != len(objs):
+        return "it was bound by another version of the add-on"
+    for obj, before in zip(objs, stored):
+        now = topology(obj) if full else "%d:%d:" % (len(obj.data.vertices), len(obj.data.loops))
+        if not before.startswith(now):
+            return "the faces of %s changed since the drawing was bound" % obj.name
+    return ""
+
+
 def update(gp_obj, depsgraph):
-    """Write gp_obj's bound points from its meshes as evaluated; False if one of them is gone."""
-    import numpy as np
+    """Write gp_obj's bound points from its meshes as evaluated; False if it is not bound (any
+    more): one of its meshes is gone, or its faces changed (then unbound, with a warning).  The
+    faces themselves are compared (a loop per face corner read: ~10 ms at 30k corners) after Edit
+    Mode and when the binding is read; else only the numbers of vertices and corners."""
     objs = bound_meshes(gp_obj)
     if objs is None:
         return False
-    X, faces = world_mesh(objs, depsgraph)
-    rest, _ = world_mesh(objs)
-    changed = False
-    for d in drawings(gp_obj):
-        if d.attributes.get(REST) is None:
-            continue
-        tri = read(d, TRI, 1).astype(np.int64)
-        pos, scale = place(X, faces, tri, read(d, BARY, 3).astype(float),
-                           read(d, HEIGHT, 1).astype(float), _frames(rest, faces[tri])[4])
-        new = to_local(gp_obj, pos).astype(np.float32)
-        if not np.array_equal(new, read(d, "position", 3)):  # our own write re-enters: stop there
-            write(d, "position", 'FLOAT_VECTOR', new)
-            write(d, "radius", 'FLOAT', read(d, RADIUS, 1) * scale)
-            changed = True
-    if changed:
-        gp_obj.data.update_tag()
+    if any(o.mode == 'EDIT' for o in objs):  # its faces are known again when Edit Mode ends
+        _edited.add(gp_obj.name)
+        return True
+    full = gp_obj.name in _edited or gp_obj.name not in _bindings
+    _edited.discard(gp_obj.name)
+    reason = changed_faces(gp_obj, objs, full)
+    X = shown_mesh(objs, depsgraph) if not reason else None
+    if X is None:
+        warn_unbound(gp_obj, reason or "a modifier of one of %s adds or removes vertices"
+                     % ", ".join(o.name for o in objs))
+        return False
+    for d, tri, bary, height, area, radius in binding(gp_obj, objs).drawings:
+        pos, scale = place(X[tri], bary, height, area)
+        write(d, "position", 'FLOAT_VECTOR', to_local(gp_obj, pos))
+        write(d, "radius", 'FLOAT', radius * scale)
+    gp_obj.data.update_tag()
     return True
 
 
-@persistent
-def on_update(scene, depsgraph=None):
-    depsgraph = depsgraph or bpy.context.evaluated_depsgraph_get()
+def warn_unbound(gp_obj, reason):
+    """Unbind gp_obj (its points back where they were drawn) and say why, once."""
+    message = "bdinterp: %s was unbound: %s (bind it again to follow the mesh)" % (gp_obj.name, reason)
+    unbind_drawing(gp_obj)
+    gp_obj[WARNING] = message
+    print(message)
+
+
+def on_changes(scene, depsgraph, changed):
+    """Every update (changes.py): the bound drawings whose meshes (or themselves) moved or changed
+    shape follow them; their own writes (a Grease Pencil update) change nothing here."""
     for obj in scene.objects:
-        if obj.type == 'GREASEPENCIL' and BOUND in obj:
-            update(obj, depsgraph)
+        if obj.type != 'GREASEPENCIL' or BOUND not in obj:
+            continue
+        names = set(obj.get(BOUND, []))
+        if changed.frame or obj.name in changed.moved or names & (changed.moved | changed.shaped):
+            try:
+                update(obj, depsgraph)
+            except Exception as exc:  # noqa: BLE001 -- unbound once, never an error on every update
+                warn_unbound(obj, "%s: %s" % (type(exc).__name__, exc))
+
+
+@persistent
+def forget(*_args):
+    """After undo or loading a file the drawings are other objects: read them again."""
+    _bindings.clear()
+    _edited.clear()
 
 
 def chosen_meshes(context):
@@ -246,17 +352,20 @@ class BDINTERP_OT_bind_drawing(bpy.types.Operator):
         return {'FINISHED'}
 
 
-HANDLERS = (bpy.app.handlers.depsgraph_update_post, bpy.app.handlers.frame_change_post)
+HANDLERS = (bpy.app.handlers.undo_post, bpy.app.handlers.redo_post, bpy.app.handlers.load_post)
 
 
 def register():
     bpy.utils.register_class(BDINTERP_OT_bind_drawing)
     for handlers in HANDLERS:
-        handlers.append(on_update)
+        handlers.append(forget)
+    changes.subscribe(1, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     for handlers in HANDLERS:
-        if on_update in handlers:
-            handlers.remove(on_update)
+        if forget in handlers:
+            handlers.remove(forget)
+    forget()
     bpy.utils.unregister_class(BDINTERP_OT_bind_drawing)

@@ -5,10 +5,16 @@ one object or a cut-out character of several objects solved as one (as a bake so
 Reads bpy data, writes nothing; the viewport overlay (onion.py) draws what this computes.
 """
 
+from collections import Counter
+
 from ..keys import character, playback
 from ..shapes import mesh_io, solve
 from ..shapes.mesh_io import BakeError
 from ..shapes.settings import BakeSettings, from_props
+
+# Work done, for the tests: 'paths' validated (the solver built), 'solved' frames computed.
+counters = Counter()
+MEMO_BYTES = 64 << 20  # frames kept per Path (a trail's samples at 20k vertices: 16 MB)
 
 
 def settings_of(props):
@@ -20,7 +26,8 @@ def settings_of(props):
 class Path:
     """A validated source -> target interpolation of one object or character (its panel settings):
     objs (first: the one whose settings count), inp (solve.Inputs, world coordinates for a
-    character), method, and the solver (a bdinterp.Interpolator for 'bdi', else None)."""
+    character), method, and the solver (a bdinterp.Interpolator for 'bdi', else None).  The
+    frames it solved are kept by factor (up to MEMO_BYTES): asking again costs nothing."""
 
     def __init__(self, obj, target=None, source=None, with_solver=True):
         objs = list(obj) if isinstance(obj, (list, tuple)) else [obj]
@@ -39,32 +46,58 @@ class Path:
         else:
             members = [members[0] if members else objs[0]]
             self.inp = solve.Inputs(members[0], settings)
-        self.objs, self.found = members, None
+        self.objs, self.found, self._memo, self._baked = members, None, {}, None
         self.solver = self.inp.interpolator() if self.method == "bdi" and with_solver else None
+        counters["paths"] += 1
 
     @property
     def size(self):
         """Number of vertices (all objects' for a character)."""
         return len(self.inp.shapes[0])
 
+    @property
+    def local(self):
+        """True if the frames are in the object's coordinates (one object; a character is solved
+        in world coordinates): drawn with the object's matrix, they follow it when it moves."""
+        return len(self.objs) == 1
+
     def world(self, frames):
         """(k, n, 3) frames of inp (local coordinates of one object) in world coordinates."""
         import numpy as np
         frames = np.asarray(frames, dtype=np.float64)
-        if len(self.objs) > 1:
+        if not self.local:
             return frames  # a character is solved in world coordinates
         m = np.array(self.objs[0].matrix_world, dtype=np.float64)
         return frames @ m[:3, :3].T + m[:3, 3]
 
     def frames(self, ts):
-        """(len(ts), n, 3) in-betweens at factors ts, world coordinates: one frames() call, each
-        frame warm-started from the one before, as the core computes them alone."""
+        """(len(ts), n, 3) in-betweens at factors ts, world coordinates."""
+        return self.world(self.solved(ts))
+
+    def solved(self, ts):
+        """(len(ts), n, 3) in-betweens at factors ts as solved (local coordinates of one object):
+        the factors not solved yet in one frames() call, each frame warm-started from the one
+        before, as the core computes them alone."""
+        import numpy as np
+        ts = [float(t) for t in ts]
+        new = [t for t in dict.fromkeys(ts) if t not in self._memo]
+        if new:
+            frames = self._solve(new)
+            counters["solved"] += len(new)
+            if (len(self._memo) + len(new)) * frames[0].nbytes > MEMO_BYTES:
+                self._memo.clear()
+            self._memo.update(zip(new, frames))
+            if len(new) == len(ts):
+                return np.asarray(frames)
+        return np.array([self._memo[t] for t in ts]).reshape(len(ts), self.size, 3)
+
+    def _solve(self, ts):
         if self.method != "bdi":
-            return self.world(solve.FrameJob(self.inp, ts, self.method).frames())
+            return list(solve.FrameJob(self.inp, ts, self.method).frames())
         if self.solver is None:
             self.solver = self.inp.interpolator()
         try:
-            return self.world(self.solver.frames(list(ts)))
+            return list(self.solver.frames(ts))
         except ValueError as exc:
             raise self.inp.explain(exc) from exc
 
@@ -86,16 +119,27 @@ class Path:
         """(keys (j, n, 3) world coordinates of the recorded bake's in-between keys, in order of
         factor; the key names). Empty when the object has no bake of this source -> target.
         Sets self.found (playback.Found of the bake, or None)."""
+        keys, names = self.baked_solved()
+        return self.world(keys), names
+
+    def baked_solved(self):
+        """baked() in the coordinates the frames are solved in (read once per Path)."""
         import numpy as np
+        if self._baked is not None:
+            return self._baked
         inp, first = self.inp, self.objs[0]
         found = self.found = playback.find(first, inp.names[0], inp.names[1])
         names = [n for n in (found.keys if found else []) if all(
             n in o.data.shape_keys.key_blocks for o in self.objs)]
         if not names:
-            return np.empty((0, self.size, 3)), []
-        frames = np.array([np.concatenate([character.to_world(o, mesh_io.read_co(
-            o.data.shape_keys.key_blocks[n])) for o in self.objs]) for n in names])
-        return frames, names
+            keys = np.empty((0, self.size, 3))
+        elif self.local:
+            keys = np.array([mesh_io.read_co(first.data.shape_keys.key_blocks[n]) for n in names])
+        else:
+            keys = np.array([np.concatenate([character.to_world(o, mesh_io.read_co(
+                o.data.shape_keys.key_blocks[n])) for o in self.objs]) for n in names])
+        self._baked = keys, names
+        return self._baked
 
 
 def default_vertices(path):

@@ -1,25 +1,29 @@
 """Onion skins and motion trails of the in-betweens in the 3D viewport (settings: Scene.bdi_view).
 
-What is drawn is computed once (Ghosts: world coordinates of the ghost shapes, the trails, the
-ticks at the baked keys) and kept in GPU batches (overlay.py); a redraw compares a cheap request
-key (objects, settings, transforms, an epoch bumped when the input or baked keys' data change)
-and only recolours.  The depsgraph handler re-reads key data only when Blender reports a shape key
-edited, so playback and live mode never pay for it.  An error while computing the ghosts is shown
-in the panel; one elsewhere in a redraw or the handler is printed once and the overlay leaves that
-object alone until a view setting changes or a file is loaded (no error repeats every redraw).
+What is drawn (Ghosts: ghost shapes, trails, ticks at the baked keys, in the drawn object's
+coordinates) is computed once, kept in GPU batches (overlay.py) and drawn with the object's
+matrix.  A redraw after a change compares a cheap request key (objects, settings, topology, an
+epoch bumped when the keys' data change) and only recolours; a new view setting solves only
+factors the Path has not solved.  Key data are re-read only when a drawn object's keys are
+reported edited by someone else than the add-on (changes.py), never on playback or live frames.
+An error while computing the ghosts is shown in the panel; one elsewhere in a redraw or the
+handler is printed once and the overlay leaves that object alone until a view setting changes or
+a file is loaded (no error repeats every redraw).
 """
 
 import hashlib
 import time
-from collections import deque
+from collections import Counter, deque
 
 import bpy
 from bpy.app.handlers import persistent
 from bpy.props import BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty, IntProperty
 
 from . import motion_trails
+from .ghosts import Ghosts, build, factor_at, selected_vertices
+from .. import changes
 from ..shapes import mesh_io
-from ..names import LIVE_KEY, SEP
+from ..names import LIVE_KEY
 
 
 def _redraw(self=None, context=None):
@@ -67,22 +71,6 @@ class BDI_ViewProps(bpy.types.PropertyGroup):
     trail_color: _color("Trail", (1.0, 0.85, 0.2))
 
 
-class Ghosts:
-    """Everything the overlay draws, world coordinates: shapes (j, n, 3) at factors (j,), faces
-    (m, 3), outline edges (e, 2), trails (s, k, 3), ticks (b, k, 3), chords (2, k, 3); the slider
-    (owner object name, property) whose value is the current factor; an error message; the
-    motion_trails.Path solved (kept while only the frame changes).  Ghosts of frames have
-    `offsets` (j,) in frames from the current one and `span` (their tint fades over it)."""
-
-    def __init__(self, **kw):
-        import numpy as np
-        empty = np.empty((0, 0, 3))
-        self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
-        self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
-        self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
-        self.__dict__.update(kw)
-
-
 def drawn_objects(context):
     """The active mesh with a target set, then the selected meshes that have its target key (a
     character, as a bake solves it); [] when there is nothing to draw."""
@@ -95,144 +83,48 @@ def drawn_objects(context):
     return [obj] + members(selected_meshes(context, obj)[1:], obj.bdi.target)
 
 
-def _factor_of(name):
-    """0.5 of 'Arm.bdi.050' (the factor is in the key's name), None if it is not in it."""
-    try:
-        return float(name.rsplit(SEP, 1)[1]) / 100.0
-    except (IndexError, ValueError):
-        return None
-
-
-def outline(faces):
-    """(e, 2) the edges of `faces` that bound only one triangle: each piece's outline."""
-    import numpy as np
-    edges = np.sort(np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]]), axis=1)
-    unique, counts = np.unique(edges, axis=0, return_counts=True)
-    return unique[counts == 1]
-
-
-def moving_faces(path):
-    """The faces of path's mesh that the motion moves (a vertex of theirs is elsewhere in the
-    target than in the source): the ghosts tint those only, not the pieces that stand still."""
-    import numpy as np
-    source, target = path.world(path.inp.shapes[:2])
-    size = max(np.ptp(source, axis=0).max(), 1e-12)
-    moves = np.linalg.norm(target - source, axis=1) > 1e-6 * size
-    faces = np.asarray(path.inp.faces)
-    return faces[moves[faces].any(axis=1)]
-
-
-def selected_vertices(objs):
-    """Indices (across the objects, one after the other) of their selected vertices."""
-    import numpy as np
-    out, offset = [], 0
-    for obj in objs:
-        sel = np.zeros(len(obj.data.vertices), dtype=bool)
-        obj.data.vertices.foreach_get("select", sel)
-        out.append(np.flatnonzero(sel) + offset)
-        offset += len(sel)
-    return np.concatenate(out)
-
-
-def build(objs, view, frame=None, previous=None):
-    """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
-    scene's `frame`; `previous`: the Ghosts of the same request at another frame, whose Path,
-    outline and trails are reused (only the ghosts of frames move with the frame)."""
-    import numpy as np
-    if previous is not None:
-        out = Ghosts(**previous.__dict__)
-        frame_ghosts(out, objs, view, frame)
-        return out
-    solve_needed = view.trails or view.ghost_source != 'BAKED'
-    path = motion_trails.Path(objs, with_solver=solve_needed)
-    faces = moving_faces(path)
-    out = Ghosts(faces=faces, edges=outline(faces) if len(faces) else np.empty((0, 2), int),
-                 path=path)
-    baked, names = path.baked()
-    if path.found is not None:
-        out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
-    if view.ghosts and view.ghost_source == 'BAKED':
-        factors = [_factor_of(n) for n in names]
-        if None in factors:  # names not made by a bake: evenly spaced
-            factors = list(np.arange(1, len(names) + 1) / (len(names) + 1.0))
-        out.shapes, out.factors = baked, factors
-    elif view.ghosts and view.ghost_source == 'FRAMES':
-        frame_ghosts(out, objs, view, frame)
-    elif view.ghosts:
-        ts = np.arange(view.step, 1.0 - 1e-9, view.step)
-        out.shapes, out.factors = path.frames(ts), list(ts)
-    if view.trails:
-        trail_points(out, path, view, baked)
-    return out
-
-
-def frame_ghosts(out, objs, view, frame):
-    """Set out's ghosts of the frames around `frame` (offsets, span, factors, shapes)."""
-    import numpy as np
-    step = view.frame_step
-    out.offsets = [-k * step for k in range(view.frames_before, 0, -1)] + \
-        [k * step for k in range(1, view.frames_after + 1)]
-    out.span = (max(view.frames_before, view.frames_after) + 1) * step
-    out.factors = [factor_at(objs, out.slider, frame + o) for o in out.offsets]
-    out.shapes = out.path.frames(out.factors) if out.offsets else np.empty((0, out.path.size, 3))
-
-
-def trail_points(out, path, view, baked):
-    """Set out.trails, ticks and chords: the paths of the trail vertices of `view`."""
-    import numpy as np
-    v = None
-    if view.trail_vertices == 'SELECTED':
-        v = selected_vertices(path.objs)
-        if not len(v):
-            raise mesh_io.BakeError("no vertex selected: select some in Edit Mode")
-    v = path.vertices(v)
-    out.trails = path.frames(np.linspace(0.0, 1.0, view.samples))[:, v]
-    out.ticks = baked[:, v]
-    out.chords = out.trails[[0, -1]]
-
-
-def factor_at(objs, slider, frame=None):
-    """The factor shown at `frame` (None: now): live mode's factor, else the slider's (owner
-    object name, property) or 0; at another frame as its F-curve has it (a constant without)."""
-    from ..actions import find_fcurve
-    props = objs[0].bdi
-    if props.live and props.live_mode == 'INTERPOLATE':
-        owner, data_path, value = objs[0], "bdi.live_factor", props.live_factor
-    else:
-        owner = bpy.data.objects.get(slider[0]) if slider is not None else None
-        if owner is None:
-            return 0.0
-        data_path = '["%s"]' % bpy.utils.escape_identifier(slider[1])
-        value = float(owner.get(slider[1], 0.0))
-    curve = find_fcurve(owner.animation_data, data_path) if frame is not None else None
-    return min(1.0, max(0.0, curve.evaluate(frame) if curve is not None else value))
+def solve_key(objs):
+    """What a Path depends on, cheap to compare: the objects, their settings and topology (vertex,
+    face and loop counts), the epoch (bumped when their keys' data change) and, for a character
+    (solved in world coordinates), the objects' transforms.  One object's transform is not in
+    it: its ghosts are drawn with its matrix."""
+    return (tuple(o.name for o in objs), motion_trails.settings_of(objs[0].bdi), _epoch[0],
+            tuple((len(o.data.vertices), len(o.data.polygons), len(o.data.loops)) for o in objs),
+            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs) if len(objs) > 1 else ())
 
 
 def request_key(objs, view):
-    """What the Ghosts depend on, cheap enough to compare whenever a handler invalidated the
-    Plan: the Path's settings, the view's; last: the frame (for ghosts of frames; else None)."""
-    props = objs[0].bdi
-    settings = (motion_trails.settings_of(props), props.live_mode, view.ghosts, view.ghost_source,
-                view.step, view.trails, view.trail_vertices, view.samples, view.frames_before,
-                view.frames_after, view.frame_step)
+    """What the Ghosts depend on: the Path's (solve_key), the view's settings but colours, the
+    selection the trails follow; last: the frame (for ghosts of frames; else None)."""
+    selected = ()
+    if view.trails and view.trail_vertices == 'SELECTED':
+        selected = selected_vertices(objs).tobytes()
+    settings = (objs[0].bdi.live_mode, view.ghosts, view.ghost_source, view.step, view.trails,
+                view.trail_vertices, view.samples, view.frames_before, view.frames_after,
+                view.frame_step, selected)
     frame = bpy.context.scene.frame_current if view.ghosts and view.ghost_source == 'FRAMES' else None
-    return (tuple(o.name for o in objs), settings, _epoch[0],
-            tuple(tuple(v for row in o.matrix_world for v in row) for o in objs), frame)
+    return (solve_key(objs), settings, frame)
 
 
+counters = Counter()  # for the tests: keys' data 'hashed', Ghosts 'built', 'batches', 'plans' made
 _epoch = [0]        # bumped when the data of a drawn object's keys change
-_signatures = {}    # object name -> hash of its keys' data (but the live key)
-_failed = {}       # object name -> the error that stopped drawing its overlay (printed once)
+_signatures = {}    # object name -> hash of its keys' data (but the live key) and its faces
+_failed = {}        # object name -> the error that stopped drawing its overlay (printed once)
 _cache = {"key": None, "ghosts": None, "batches": None, "plan": None, "active": None}
 
 
 def key_signature(obj):
-    key = obj.data.shape_keys
-    h = hashlib.sha1()
+    """A hash of obj's keys' data (but the live key's) and of its mesh's faces."""
+    import numpy as np
+    counters["hashed"] += 1
+    key, h = obj.data.shape_keys, hashlib.sha1()
     for kb in key.key_blocks if key else ():
         if kb.name != LIVE_KEY:
-            h.update(kb.name.encode())
+            h.update(kb.name.encode() + kb.vertex_group.encode() + kb.relative_key.name.encode())
             h.update(mesh_io.read_raw(kb).tobytes())
+    loops = np.empty(len(obj.data.loops), dtype=np.int32)
+    obj.data.loops.foreach_get("vertex_index", loops)
+    h.update(loops.tobytes())
     return h.hexdigest()
 
 
@@ -245,15 +137,18 @@ def current(context):
         return objs, None, None
     key = request_key(objs, view)
     if _cache["key"] != key:
-        only_frame = _cache["key"] is not None and _cache["key"][:-1] == key[:-1]
-        previous = _cache["ghosts"] if only_frame and _cache["ghosts"].path is not None else None
+        old = _cache["ghosts"]
+        same = old is not None and _cache["key"] is not None and _cache["key"][0] == key[0]
+        path = old.path if same else None
         _cache["key"], _cache["batches"] = key, None
-        if previous is None:  # else the epoch is unchanged: the keys are as last hashed
-            for o in objs:
-                _signatures[o.name] = key_signature(o)
         try:
-            _cache["ghosts"] = build(objs, view, key[-1], previous)
+            if path is None:  # a new Path: what its keys hold now
+                for o in objs:
+                    _signatures[o.name] = key_signature(o)
+            _cache["ghosts"] = build(objs, view, key[-1], path)
+            counters["built"] += 1
             _cache["batches"] = overlay.batches(_cache["ghosts"])
+            counters["batches"] += 1
         except Exception as exc:  # noqa: BLE001 -- any error is shown in the panel, once computed
             said = str(exc) if isinstance(exc, (ValueError, RuntimeError)) else "%s: %s" % (
                 type(exc).__name__, exc)
@@ -279,7 +174,9 @@ def plan(context):
     objs, ghosts, batches = current(context)
     if batches is None:
         return False
-    return overlay.Plan(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts))
+    counters["plans"] += 1
+    return overlay.Plan(batches, ghosts, context.scene.bdi_view, now_factor(objs, ghosts),
+                        ghosts.matrix())
 
 
 # Seconds of the last redraws that drew something (rebuilds included), for the benchmark.
@@ -318,14 +215,13 @@ def _draw(context):
         timings.append(time.perf_counter() - started)
 
 
-@persistent
-def on_depsgraph_update(scene, depsgraph):
-    """Anything updated: the next redraw checks the request; a drawn object's keys edited (not the
-    live key alone): bump the epoch, so that it rebuilds."""
+def on_changes(_scene, _depsgraph, changed):
+    """Every update (changes.py): the next redraw checks the request; the keys of a drawn object
+    edited by someone else than the add-on (its live key's writes are known and skipped) and
+    holding other data than the Path read: bump the epoch, so that the Path is made again."""
     invalidate()
-    names = [n for n in (_cache["key"][0] if _cache["key"] else ()) if n not in _failed]
-    edited = {u.id.original for u in depsgraph.updates
-              if isinstance(u.id, bpy.types.Key) and u.is_updated_geometry}
+    edited = changed.edited_keys()
+    names = [n for n in (_cache["key"][0][0] if _cache["key"] else ()) if n not in _failed]
     for name in names if edited else ():
         try:
             if _edited(bpy.data.objects.get(name), edited):
@@ -336,22 +232,26 @@ def on_depsgraph_update(scene, depsgraph):
 
 
 def _edited(obj, keys):
-    """True if obj's shape keys are among `keys` and their data changed since last hashed."""
-    return (obj is not None and getattr(obj.data, "shape_keys", None) in keys
-            and _signatures.get(obj.name) != key_signature(obj))
+    """True if obj's shape keys are among `keys` (names) and changed since last hashed."""
+    key = getattr(getattr(obj, "data", None), "shape_keys", None)
+    return key is not None and key.name in keys and _signatures.get(obj.name) != key_signature(obj)
+
+
+@persistent
+def forget(*_args):
+    """After an undo the keys may hold anything and the Path's objects are gone: start afresh."""
+    _cache.update(key=None, ghosts=None, batches=None, plan=None, active=None)
+    _signatures.clear()
 
 
 @persistent
 def on_load(*_args):
-    _cache.update(key=None, ghosts=None, batches=None, plan=None, active=None)
-    _signatures.clear()
+    forget()
     _failed.clear()
 
 
 _handle = []
-HANDLERS = ((bpy.app.handlers.depsgraph_update_post, on_depsgraph_update),
-            (bpy.app.handlers.frame_change_post, invalidate),
-            (bpy.app.handlers.undo_post, invalidate), (bpy.app.handlers.redo_post, invalidate),
+HANDLERS = ((bpy.app.handlers.undo_post, forget), (bpy.app.handlers.redo_post, forget),
             (bpy.app.handlers.load_post, on_load))
 
 
@@ -361,9 +261,11 @@ def register():
     _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
     for handlers, fn in HANDLERS:
         handlers.append(fn)
+    changes.subscribe(2, on_changes)
 
 
 def unregister():
+    changes.unsubscribe(on_changes)
     for handle in _handle:
         bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
     _handle.clear()
@@ -378,7 +280,7 @@ def unregister():
 def draw_settings(layout, context):
     """The panel's Onion Skins & Trails section (ui.BDINTERP_PT_view)."""
     view = context.scene.bdi_view
-    row = layout.column(align=True)  # one above the other: each label whole in a narrow sidebar
+    row = layout.row(align=True)
     row.prop(view, "ghosts", toggle=True, icon='ONIONSKIN_ON' if view.ghosts else 'ONIONSKIN_OFF')
     row.prop(view, "trails", toggle=True, icon='IPO_BEZIER')
     if view.ghosts:

@@ -1,6 +1,7 @@
 """GPU drawing of onion.Ghosts with Blender's gpu module: the batches are made once per Ghosts, a
-Plan colours them when something changed (a ghost's tint follows its distance in factor, or in
-frames, from the shown shape), and a redraw only draws the Plan."""
+Plan colours them and places them (the drawn object's matrix) when something changed (a ghost's
+tint follows its distance in factor, or in frames, from the shown shape), and a redraw only draws
+the Plan."""
 
 import gpu
 from gpu_extras.batch import batch_for_shader
@@ -56,8 +57,9 @@ class Plan:
     """One redraw's work, decided when something changed: the ghosts' batches with their colours,
     then the trails' (chords, paths, ticks); draw() only binds, sets colours and draws."""
 
-    def __init__(self, batch_set, ghosts, view, now):
+    def __init__(self, batch_set, ghosts, view, now, matrix=None):
         self.ghosts, self.lines, self.points = [], [], []
+        self.matrix = matrix.copy() if matrix is not None else None
         times = ghosts.factors if ghosts.offsets is None else ghosts.offsets
         for fill, edges, at in zip(batch_set["fills"], batch_set["outlines"], times):
             r, g, b, a = tint(view, at, now, ghosts.span)
@@ -76,6 +78,9 @@ class Plan:
     def draw(self):
         """Draw (POST_VIEW: world coordinates) over the scene, blended."""
         sh = shader()
+        gpu.matrix.push()
+        if self.matrix is not None:  # the ghosts are in the drawn object's coordinates
+            gpu.matrix.multiply_matrix(self.matrix)
         gpu.state.blend_set('ALPHA')
         gpu.state.depth_test_set('NONE')
         sh.bind()
@@ -87,6 +92,7 @@ class Plan:
         gpu.state.point_size_set(1.0)
         gpu.state.line_width_set(1.0)
         gpu.state.blend_set('NONE')
+        gpu.matrix.pop()
 
 
 def _draw_each(sh, items):

@@ -24,9 +24,15 @@ class FramePasses;   // frame_passes.h
 // (no relative motion in any input); Slide, it slides over its parent without turning against it
 // (an eye over a head); Given, a joint of InterpolatorOptions::joint_links.
 enum class JointKind { Pin, Glued, Slide, Given };
+// Why a piece roots its tree of joints: it holds the vertex anchor; it is still; it only travels
+// (no turn); its own motion is a turn about a point inside or near it (the best of its tree); no
+// given link holds it; a given link gives its path (JointLink with parent_vertex -1).
+enum class RootReason { Anchor, Still, Travels, Turns, Given, Path };
 
 // A joint the caller gives, e.g. a bone of an armature: the piece holding child_vertex hangs from
-// the piece holding parent_vertex at `point` (the base shape, caller's coordinates).
+// the piece holding parent_vertex at `point` (the base shape, caller's coordinates). parent_vertex
+// -1: the piece is a root whose `point` travels on the chord between the inputs, turning by its
+// blended angle (a root bone's path: offset and angle blended).
 struct JointLink {
   int parent_vertex = -1, child_vertex = -1;
   Eigen::Vector2d point = Eigen::Vector2d::Zero();
@@ -150,6 +156,17 @@ class Interpolator {
   };
   // The joints, parents before children; empty when joints are off or no piece is joined.
   std::vector<JointInfo> joints() const;
+  // The root of every tree of joints (a piece in no joint is a tree of its own): the piece by its
+  // lowest vertex, why it is the root, and for RootReason::Turns the fixed point of its own motion
+  // (caller's coordinates) and its rank (distance outside the piece / (Joints' reach x its size)
+  // + its largest turn / pi). Empty when joints are off.
+  struct RootInfo {
+    int vertex;
+    RootReason reason;
+    Eigen::Vector2d point;
+    double rank;
+  };
+  std::vector<RootInfo> joint_roots() const;
 
  private:
   // The shapes moved and scaled to unit size (sets offset_, scale_), validated.

@@ -71,13 +71,15 @@ std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<c
   std::vector<detail::GivenJoint> out;
   for (const JointLink& l : options.joint_links) {
     const std::string where = "joint link " + std::to_string(out.size()) + ": ";
-    for (int v : {l.parent_vertex, l.child_vertex}) {
+    const bool path = l.parent_vertex == -1;  // the child is a root on its given path
+    for (int v : path ? std::vector<int>{l.child_vertex} : std::vector<int>{l.parent_vertex, l.child_vertex}) {
       if (v < 0 || v >= num_vertices)
         throw InvalidInput(where + "vertex " + std::to_string(v) + " out of range [0, " + std::to_string(num_vertices) + ")");
       if (piece_of[static_cast<size_t>(v)] < 0) throw InvalidInput(where + "vertex " + std::to_string(v) + " is in no face");
     }
     if (!l.point.allFinite()) throw InvalidInput(where + "its point is not finite");
-    out.push_back({piece_of[static_cast<size_t>(l.parent_vertex)], piece_of[static_cast<size_t>(l.child_vertex)],
+    out.push_back({l.parent_vertex < 0 ? -1 : piece_of[static_cast<size_t>(l.parent_vertex)],
+                   piece_of[static_cast<size_t>(l.child_vertex)],
                    ((l.point.transpose() - offset) / scale).transpose()});
   }
   return out;
@@ -172,6 +174,16 @@ std::vector<Interpolator::JointInfo> Interpolator::joints() const {
     out.push_back({lowest(parent), lowest(child), (e.point.transpose() * scale_ + offset_).transpose(),
                    joints->pinned(k), e.kind, e.fit});
   }
+  return out;
+}
+
+std::vector<Interpolator::RootInfo> Interpolator::joint_roots() const {
+  std::vector<RootInfo> out;
+  const Joints* joints = passes_->joints();
+  if (!joints) return out;
+  for (const detail::JointRoot& r : joints->roots())
+    out.push_back({*std::min_element(plans_[r.piece]->piece.vertices.begin(), plans_[r.piece]->piece.vertices.end()),
+                   r.reason, (r.point.transpose() * scale_ + offset_).transpose(), r.fit});
   return out;
 }
 

@@ -60,16 +60,17 @@ void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positi
 }
 
 // Refines q to the point that the parent's and the child's triangles carry to the same place in
-// every input (least squares over the inputs, per pair of triangles, until they stay the same);
-// false if q leaves either piece.
-bool refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
+// every input (least squares over the inputs, per pair of triangles, each piece's triangle holding
+// q or, outside it, the one whose affine extension is nearest; until they stay the same).
+void refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
                 const TriangleGrid& child, Eigen::Vector2d& q) {
   const Positions& B = shapes[static_cast<size_t>(base)];
   int fp = -1, fc = -1, last_p = -2, last_c = -2;
   Eigen::Vector3d bary;
   for (int iteration = 0; iteration < 10 && (fp != last_p || fc != last_c); ++iteration) {
     last_p = fp, last_c = fc;
-    if (parent.locate(q, fp, bary) < -kInside || child.locate(q, fc, bary) < -kInside) return false;
+    parent.locate_nearest(q, fp, bary);
+    child.locate_nearest(q, fc, bary);
     Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
     Eigen::Vector2d r = Eigen::Vector2d::Zero();
     for (const Positions& X : shapes) {  // the gap (Jc - Jp) q + (cc - cp) in each input
@@ -83,7 +84,12 @@ bool refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGr
     if (std::abs(M.determinant()) < 1e-24) break;  // the pieces move alike: every point is common
     q = -M.inverse() * r;
   }
-  return parent.locate(q, fp, bary) >= -kInside && child.locate(q, fc, bary) >= -kInside;
+}
+
+// How far a pin's point may lie outside either of its pieces: this fraction of the smaller piece's
+// size (painted sprites often leave a knee's pivot just outside the thigh).
+double pin_reach(const TriangleGrid& a, const TriangleGrid& b) {
+  return Joints::kPinReach * std::min(a.diagonal(), b.diagonal());
 }
 
 // The vertices of `b` strictly inside `a` (base shape X).
@@ -96,42 +102,60 @@ std::vector<int> inside(const Positions& X, const TriangleGrid& a, const JointPi
   return out;
 }
 
+// The largest distance any of the motions moves x.
+double largest_shift(const std::vector<RigidMotion>& motions, const Eigen::Vector2d& x) {
+  double most = 0;
+  for (const RigidMotion& m : motions) most = std::max(most, (m(x) - x).norm());
+  return most;
+}
+
 // A candidate joint between two overlapping pieces; rank orders candidates (smaller is better).
 struct Candidate {
   JointEdge edge;
   double rank;
 };
 
-// The kind of the joint between overlapping pieces a and b (`overlap`: the vertices of either
-// inside the other), or false when there is none. Glued: no input moves b against a by more than
-// kPinGap of the size (turn x size + shift at the overlap's centre). Pin: the refined fixed point
-// of the relative motion lies in both pieces and both carry it to one place in every input. Slide:
-// b turns against a by no more than that in any input, but moves. Glued and slide joints sit at
-// the overlap's vertex nearest its centre. Candidates rank pins first, by gap plus largest relative
-// turn (a joint turns less than a chain through it), then glued, then slides, each by its fit.
+// The kind of the joint between pieces a and b (`overlap`: the vertices of either inside the
+// other, empty for pieces that only come near), or false when there is none. Glued: no input moves
+// b against a by more than kPinGap of the size (turn x size + shift at the overlap's centre). Pin:
+// the refined fixed point of the relative motion lies within pin_reach of both pieces and both
+// carry it to one place in every input. Slide: b moves against a, turning or not, by at most
+// kSlideMost of the size at the overlap's vertex nearest the relative motion's fixed point (a hip
+// that the rig translates under the thighs); it sits there. Candidates rank pins first, by the
+// larger of their gap (over kPinGap) and distance outside the pieces (over the reach), plus their
+// largest relative turn (a joint turns less than a chain through it), then glued, then slides,
+// each by its fit.
 bool classify(const std::vector<Positions>& shapes, int base, double size, const TriangleGrid& a,
               const TriangleGrid& b, const std::vector<int>& overlap, Candidate& out) {
   const Positions& X = shapes[static_cast<size_t>(base)];
+  const std::vector<RigidMotion> rel = relative_motions(a.piece(), b.piece(), base);
+  double turn = 0;
+  for (const RigidMotion& m : rel) turn = std::max(turn, std::abs(detail::wrap_angle(m.angle)));
+  Eigen::Vector2d q;
+  const bool turns = turn > Joints::kPinGap && pin_guess(rel, q);
+  if (turns) {
+    refine_pin(shapes, base, a, b, q);
+    const double gap = joint_gap(shapes, base, a, b, q) / size, reach = pin_reach(a, b);
+    const double out_a = a.outside(q, 2 * reach), out_b = b.outside(q, 2 * reach);
+    if (gap <= Joints::kPinGap && out_a <= reach && out_b <= reach) {
+      const double fit = std::max(gap / Joints::kPinGap, 0.5 * (out_a + out_b) / reach);  // at most 1
+      out = {{-1, -1, q, JointKind::Pin, gap}, fit + turn / kPi};
+      return true;
+    }
+  }
+  if (overlap.empty()) return false;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   for (int v : overlap) centre += X.row(v).transpose() / static_cast<double>(overlap.size());
-  const std::vector<RigidMotion> rel = relative_motions(a.piece(), b.piece(), base);
-  double moved = 0, turn = 0;
-  for (const RigidMotion& m : rel) {
-    moved = std::max(moved, std::abs(detail::wrap_angle(m.angle)) * size + (m(centre) - centre).norm());
-    turn = std::max(turn, std::abs(detail::wrap_angle(m.angle)));
-  }
-  Eigen::Vector2d q;
-  if (turn * size > Joints::kPinGap * size) {
-    if (!pin_guess(rel, q) || !refine_pin(shapes, base, a, b, q)) return false;
-    const double gap = joint_gap(shapes, base, a, b, q) / size;
-    if (gap > Joints::kPinGap) return false;
-    out = {{-1, -1, q, JointKind::Pin, gap}, gap / Joints::kPinGap + turn / kPi};
-    return true;
-  }
+  if (!turns) q = centre;
   const int v = *std::min_element(overlap.begin(), overlap.end(), [&](int p, int r) {
-    return (X.row(p).transpose() - centre).norm() < (X.row(r).transpose() - centre).norm();
+    return (X.row(p).transpose() - q).norm() < (X.row(r).transpose() - q).norm();
   });
+  const Eigen::Vector2d at = turns ? Eigen::Vector2d(X.row(v).transpose()) : centre;
+  double moved = 0;
+  for (const RigidMotion& m : rel)
+    moved = std::max(moved, std::abs(detail::wrap_angle(m.angle)) * size + (m(at) - at).norm());
   const bool glued = moved <= Joints::kPinGap * size;
+  if (turns && largest_shift(rel, X.row(v).transpose()) > Joints::kSlideMost * size) return false;
   out = {{-1, -1, X.row(v).transpose(), glued ? JointKind::Glued : JointKind::Slide, moved / size},
          (glued ? 2.0 : 3.0) + std::min(moved / size, 0.5)};
   return true;
@@ -180,6 +204,55 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
   return out;
 }
 
+// Piece p's own motion as a turn about a point inside (or nearest to) it, ranked like a pin: the
+// distance of its fixed point outside the piece relative to the pins' reach (of the piece's own
+// size; a point farther than ten reaches counts as ten), plus its largest turn / pi (of
+// two pieces whose fixed points lie inside them, the one that turns less leaves less to the path its
+// tree's root takes, which two keys do not fix); a piece that only travels (turns by no more than
+// kPinGap) ranks 0.
+JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& grid, int p, int base, size_t k) {
+  std::vector<RigidMotion> own;
+  double turn = 0;
+  for (size_t i = 0; i < k; ++i) {
+    own.push_back(motion(pieces[p], base, i));
+    turn = std::max(turn, std::abs(own.back().angle));
+  }
+  Eigen::Vector2d q;
+  if (turn <= Joints::kPinGap || !pin_guess(own, q)) return {p, RootReason::Travels, 0.0, Eigen::Vector2d::Zero()};
+  const double reach = Joints::kPinReach * grid.diagonal();
+  return {p, RootReason::Turns, grid.outside(q, 10 * reach) / reach + turn / kPi, q};
+}
+
+// Roots: the anchored piece alone in its tree (so the anchor holds); elsewhere every still piece
+// (so none is moved by another); per remaining tree the piece whose own motion is best a turn about
+// a point inside it (root_rank; ties: the piece that moves least), so that a chain joined to
+// nothing still turns about its shoulder, not about its hand.
+std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int base,
+                                    const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                    int root, double size, std::vector<int>& up) {
+  const int n = static_cast<int>(pieces.size());
+  const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
+  std::vector<JointRoot> roots;
+  const int anchored = root >= 0 ? find_set(up, root) : -1;
+  if (root >= 0) roots.push_back({root, RootReason::Anchor, 0.0, Eigen::Vector2d::Zero()});
+  for (int p = 0; p < n; ++p)
+    if (moves[p] <= kStill * size && find_set(up, p) != anchored)
+      roots.push_back({p, RootReason::Still, 0.0, Eigen::Vector2d::Zero()});
+  std::vector<bool> rooted(n, false);
+  for (const JointRoot& r : roots) rooted[find_set(up, r.piece)] = true;
+  std::vector<JointRoot> best(n, {-1, RootReason::Turns, HUGE_VAL, Eigen::Vector2d::Zero()});
+  for (int p = 0; p < n; ++p) {
+    const int tree = find_set(up, p);
+    if (rooted[tree]) continue;
+    const JointRoot r = root_rank(pieces, grids[p], p, base, shapes.size());
+    JointRoot& b = best[tree];
+    if (b.piece < 0 || r.fit < b.fit || (r.fit == b.fit && moves[p] < moves[b.piece])) b = r;
+  }
+  for (int t = 0; t < n; ++t)
+    if (best[t].piece >= 0) roots.push_back(best[t]);
+  return roots;
+}
+
 }  // namespace
 
 double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent, const TriangleGrid& child,
@@ -202,18 +275,18 @@ double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleG
 
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
                                        const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
-                                       int root) {
+                                       int root, std::vector<JointRoot>& roots) {
   const Positions& X = shapes[static_cast<size_t>(base)];
   const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
   const int n = static_cast<int>(pieces.size());
   std::vector<Candidate> candidates;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      if (!grids[a].boxes_meet(grids[b])) continue;
+      if (!grids[a].boxes_meet(grids[b], pin_reach(grids[a], grids[b]))) continue;
       std::vector<int> ov = inside(X, grids[a], pieces[b]), ba = inside(X, grids[b], pieces[a]);
       ov.insert(ov.end(), ba.begin(), ba.end());
       Candidate c;
-      if (ov.empty() || !classify(shapes, base, size, grids[a], grids[b], ov, c)) continue;
+      if (!classify(shapes, base, size, grids[a], grids[b], ov, c)) continue;
       c.edge.parent = a, c.edge.child = b;
       candidates.push_back(c);
     }
@@ -227,37 +300,34 @@ std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int
     const int ra = find_set(up, c.edge.parent), rb = find_set(up, c.edge.child);
     if (ra != rb) up[ra] = rb, chosen.push_back(c);
   }
-  // Roots: the anchored piece alone in its tree (so the anchor holds); elsewhere every still piece
-  // (so none is moved by another), then per tree the piece that moves least.
-  const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
-  std::vector<int> sources, order(n);
-  const int anchored = root >= 0 ? find_set(up, root) : -1;
-  if (root >= 0) sources.push_back(root);
-  for (int p = 0; p < n; ++p)
-    if (moves[p] <= kStill * size && find_set(up, p) != anchored) sources.push_back(p);
-  std::iota(order.begin(), order.end(), 0);
-  std::stable_sort(order.begin(), order.end(), [&](int a, int b) { return moves[a] < moves[b]; });
-  std::vector<bool> rooted(n, false);
-  for (int s : sources) rooted[find_set(up, s)] = true;
-  for (int p : order)
-    if (!rooted[find_set(up, p)]) rooted[find_set(up, p)] = true, sources.push_back(p);
+  roots = choose_roots(shapes, base, pieces, grids, root, size, up);
+  std::vector<int> sources;
+  for (const JointRoot& r : roots) sources.push_back(r.piece);
   return orient(n, chosen, sources);
 }
 
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
-                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids) {
+                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids,
+                                        std::vector<JointRoot>& roots) {
   const Positions& X = shapes[static_cast<size_t>(base)];
   const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
   const int n = static_cast<int>(grids.size());
-  std::vector<int> parent_link(n, -1);
+  std::vector<int> parent_link(n, -1), path_link(n, -1);
   for (size_t k = 0; k < links.size(); ++k) {
     std::ostringstream s;
     s << "joint link " << k << ": ";
-    if (links[k].parent == links[k].child) throw InvalidInput(s.str() + "its parent and child vertices are in one piece");
-    if (parent_link[links[k].child] >= 0)
-      throw InvalidInput(s.str() + "its child piece already hangs from link " + std::to_string(parent_link[links[k].child]));
-    parent_link[links[k].child] = static_cast<int>(k);
+    if (links[k].parent == links[k].child)
+      throw InvalidInput(s.str() + "its parent and child vertices are in one piece");
+    std::vector<int>& slot = links[k].parent < 0 ? path_link : parent_link;
+    if (parent_link[links[k].child] >= 0 || path_link[links[k].child] >= 0)
+      throw InvalidInput(s.str() + "its child piece already hangs from link " +
+                         std::to_string(std::max(parent_link[links[k].child], path_link[links[k].child])));
+    slot[links[k].child] = static_cast<int>(k);
   }
+  for (int p = 0; p < n; ++p)
+    if (parent_link[p] < 0)
+      roots.push_back({p, path_link[p] >= 0 ? RootReason::Path : RootReason::Given, 0.0,
+                       path_link[p] >= 0 ? links[path_link[p]].point : Eigen::Vector2d::Zero()});
   std::vector<JointEdge> out;
   std::vector<int> depth(n, -1);  // parents first: walk up each piece's chain to a root
   for (int p = 0; p < n; ++p) {

@@ -22,20 +22,26 @@ Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector
   std::vector<TriangleGrid> grids;
   grids.reserve(pieces_.size());  // the grids keep references to the pieces
   for (const JointPiece& p : pieces_) grids.emplace_back(shapes[static_cast<size_t>(base)], p);
-  const std::vector<JointEdge> tree = given.empty() ? detail::find_joint_tree(shapes, base, pieces_, grids, root)
-                                                    : detail::given_joint_tree(shapes, base, given, grids);
+  const std::vector<JointEdge> tree = given.empty()
+                                          ? detail::find_joint_tree(shapes, base, pieces_, grids, root, roots_)
+                                          : detail::given_joint_tree(shapes, base, given, grids, roots_);
+  for (const detail::GivenJoint& g : given)
+    if (g.parent < 0) paths_.push_back({g.child, site(grids[g.child], g.point), {}});
+  for (Path& path : paths_)
+    for (const Positions& X : shapes) path.point.push_back(path.at.at(X));
   for (const JointEdge& e : tree) add_joint(shapes, base, e, grids[e.parent], grids[e.child]);
+}
+
+Joints::Site Joints::site(const TriangleGrid& piece, const Eigen::Vector2d& q) {
+  int f = -1;
+  Eigen::Vector3d bary = Eigen::Vector3d::Zero();
+  piece.locate_nearest(q, f, bary);
+  return {{piece.vertex(f, 0), piece.vertex(f, 1), piece.vertex(f, 2)}, bary};
 }
 
 void Joints::add_joint(const std::vector<Positions>& shapes, int base, const JointEdge& edge,
                        const TriangleGrid& in_parent, const TriangleGrid& in_child) {
-  Joint j{edge, {}, {}, {}, {}, {}};
-  int fp = -1, fc = -1;
-  Eigen::Vector3d bp = Eigen::Vector3d::Zero(), bc = bp;
-  in_parent.locate_nearest(edge.point, fp, bp);
-  in_child.locate_nearest(edge.point, fc, bc);
-  j.in_parent = {{in_parent.vertex(fp, 0), in_parent.vertex(fp, 1), in_parent.vertex(fp, 2)}, bp};
-  j.in_child = {{in_child.vertex(fc, 0), in_child.vertex(fc, 1), in_child.vertex(fc, 2)}, bc};
+  Joint j{edge, site(in_parent, edge.point), site(in_child, edge.point), {}, {}, {}};
   const std::vector<Frame2>&P = *pieces_[edge.parent].frames, &C = *pieces_[edge.child].frames;
   const size_t b = static_cast<size_t>(base);
   for (size_t i = 0; i < shapes.size(); ++i) {
@@ -49,6 +55,12 @@ void Joints::add_joint(const std::vector<Positions>& shapes, int base, const Joi
 }
 
 void Joints::apply(const Eigen::VectorXd& w, std::vector<double>& angle, Eigen::Ref<Positions> out) const {
+  for (const Path& path : paths_) {  // a root on its given path: its point on the chord, its own angle
+    Eigen::Vector2d to = Eigen::Vector2d::Zero();
+    for (Eigen::Index i = 0; i < w.size(); ++i) to += w[i] * path.point[static_cast<size_t>(i)];
+    const Eigen::RowVector2d shift = (to - path.at.at(out)).transpose();
+    for (int v : *pieces_[path.piece].vertices) out.row(v) += shift;
+  }
   for (const Joint& j : joints_) {
     const int parent = j.edge.parent, child = j.edge.child;
     double turn = 0;  // the child's angle: the parent's plus the blend of their relative angles

@@ -26,7 +26,16 @@ struct JointEdge {
   JointKind kind = JointKind::Pin;
   double fit = 0;
 };
-// A given link with its pieces (indices into the pieces) and point in the base shape.
+// The root of a tree of joints: the piece, why it roots its tree, and for RootReason::Turns the
+// fixed point of its own motion (base shape) and its rank (root_rank in joint_tree.cpp).
+struct JointRoot {
+  int piece;
+  RootReason reason;
+  double fit;
+  Eigen::Vector2d point;
+};
+// A given link with its pieces (indices into the pieces) and point in the base shape; parent -1:
+// the child is a root whose point travels on the chord between the inputs (a root bone's path).
 struct GivenJoint {
   int parent, child;
   Eigen::Vector2d point;
@@ -35,14 +44,17 @@ struct GivenJoint {
 // The tree found from the overlaps of the pieces in the base shape (joint_tree.cpp), parents
 // first: each overlapping pair is a pin, glued or no joint; a maximum spanning forest keeps the
 // best (pins before glued, each by its fit), rooted at the still pieces, the anchored piece
-// (root >= 0), else the piece that moves least.
+// (root >= 0), else the piece whose own motion is best a turn about a point inside it; `roots`
+// gets each tree's root (a piece in no joint is a tree of its own).
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
                                        const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
-                                       int root);
+                                       int root, std::vector<JointRoot>& roots);
 // The given links in tree order, parents first (InvalidInput naming link k for two parents of one
-// piece, a link within one piece or a cycle); the fit is measured as for a pin.
+// piece, a link within one piece or a cycle); the fit is measured as for a pin. `roots` gets the
+// pieces with no parent (RootReason::Path for those a link with parent -1 gives a path).
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
-                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids);
+                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids,
+                                        std::vector<JointRoot>& roots);
 // The largest gap over the inputs between where the two pieces' triangles carry q (q located in
 // each, extended by the nearest triangle's affine map outside it).
 double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
@@ -74,6 +86,13 @@ class Joints {
 
   // A point both pieces carry to one place in every input to this fraction of the size is a pin.
   static constexpr double kPinGap = 1e-3;
+  // A pin's point may lie outside either piece by this fraction of the smaller piece's size.
+  static constexpr double kPinReach = 0.03;
+  // A joint that turns and slides (a pivot the rig translates on its parent) moves its point
+  // against the parent by at most this fraction of the size.
+  static constexpr double kSlideMost = 0.05;
+  // Each tree's root (find_joint_tree, given_joint_tree).
+  const std::vector<detail::JointRoot>& roots() const { return roots_; }
 
  private:
   // A point of the base shape in a piece: the face's three global vertices, barycentric weights.
@@ -89,10 +108,21 @@ class Joints {
     std::vector<double> parent_angle;       // per input: the parent's anchor angle
     std::vector<Eigen::Vector2d> offset;    // per input: child's point minus parent's (0 at a pin)
   };
+  // Where q (base shape) lies in the piece: its triangle, or the one whose extension is nearest.
+  static Site site(const detail::TriangleGrid& piece, const Eigen::Vector2d& q);
   void add_joint(const std::vector<Positions>& shapes, int base, const detail::JointEdge& edge,
                  const detail::TriangleGrid& in_parent, const detail::TriangleGrid& in_child);
 
+  // A root that travels on its given path: its point in the piece and where each input puts it.
+  struct Path {
+    int piece;
+    Site at;
+    std::vector<Eigen::Vector2d> point;
+  };
+
   std::vector<Joint> joints_;
+  std::vector<Path> paths_;
+  std::vector<detail::JointRoot> roots_;
   const std::vector<JointPiece> pieces_;
 };
 

@@ -3,7 +3,9 @@
 
 #include <Eigen/Core>
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numeric>
 #include <utility>
 #include <vector>
 
@@ -35,19 +37,54 @@ class TriangleGrid {
     lo_ = hi_ = X.row((*piece.vertices)[0]).transpose();
     for (int v : *piece.vertices) lo_ = lo_.cwiseMin(X.row(v).transpose()), hi_ = hi_.cwiseMax(X.row(v).transpose());
     n_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(F.rows()))));
-    cells_.resize(static_cast<size_t>(n_) * n_);
+    // The faces of each cell in one array (counted, then filled): one allocation per piece.
+    std::vector<std::array<int, 4>> span(static_cast<size_t>(F.rows()));  // each face's cells
+    start_.assign(static_cast<size_t>(n_) * n_ + 1, 0);
     for (int f = 0; f < F.rows(); ++f) {
       Eigen::Vector2d a = corner(f, 0), b = a;
       for (int c = 1; c < 3; ++c) a = a.cwiseMin(corner(f, c)), b = b.cwiseMax(corner(f, c));
       const auto [i0, j0] = cell(a);
       const auto [i1, j1] = cell(b);
+      span[static_cast<size_t>(f)] = {i0, j0, i1, j1};
       for (int j = j0; j <= j1; ++j)
-        for (int i = i0; i <= i1; ++i) cells_[static_cast<size_t>(j) * n_ + i].push_back(f);
+        for (int i = i0; i <= i1; ++i) ++start_[static_cast<size_t>(j) * n_ + i + 1];
+    }
+    std::partial_sum(start_.begin(), start_.end(), start_.begin());
+    faces_.resize(static_cast<size_t>(start_.back()));
+    std::vector<int> at(start_.begin(), start_.end() - 1);
+    for (int f = 0; f < F.rows(); ++f) {
+      const auto [i0, j0, i1, j1] = span[static_cast<size_t>(f)];
+      for (int j = j0; j <= j1; ++j)
+        for (int i = i0; i <= i1; ++i) faces_[static_cast<size_t>(at[static_cast<size_t>(j) * n_ + i]++)] = f;
     }
   }
 
-  bool boxes_meet(const TriangleGrid& o) const {
-    return (lo_.array() <= o.hi_.array()).all() && (o.lo_.array() <= hi_.array()).all();
+  // Whether the two pieces' bounding boxes meet once each is grown by `margin`.
+  bool boxes_meet(const TriangleGrid& o, double margin = 0) const {
+    return (lo_.array() <= o.hi_.array() + 2 * margin).all() && (o.lo_.array() <= hi_.array() + 2 * margin).all();
+  }
+  // The piece's size: its bounding box's diagonal in the base shape.
+  double diagonal() const { return (hi_ - lo_).norm(); }
+  // How far q lies outside the piece (0 inside or on its outline), exact below `within`; `within`
+  // when it lies that far or farther (only the faces of the grid cells within reach are read).
+  double outside(const Eigen::Vector2d& q, double within) const {
+    int f;
+    Eigen::Vector3d bary;
+    if (locate(q, f, bary) >= -kInside) return 0;
+    const Eigen::Vector2d reach = Eigen::Vector2d::Constant(within);
+    if (((q - reach).array() > hi_.array()).any() || ((q + reach).array() < lo_.array()).any()) return within;
+    const auto [i0, j0] = cell(q - reach);
+    const auto [i1, j1] = cell(q + reach);
+    double best = within;
+    for (int j = j0; j <= j1; ++j)
+      for (int i = i0; i <= i1; ++i)
+        for (int g : faces_of(i, j))
+          for (int c = 0; c < 3; ++c) {  // outside every face: the nearest point lies on an edge
+            const Eigen::Vector2d a = corner(g, c), e = corner(g, (c + 1) % 3) - a;
+            const double s = std::clamp((q - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+            best = std::min(best, (a + s * e - q).norm());
+          }
+    return best;
   }
   // The face holding q with the largest least barycentric weight (-inf and face -1 if q is outside
   // the box); bary gets its weights.
@@ -56,7 +93,7 @@ class TriangleGrid {
     double best = -HUGE_VAL;
     if (!((q.array() >= lo_.array()).all() && (q.array() <= hi_.array()).all())) return best;
     const auto [i, j] = cell(q);
-    for (int f : cells_[static_cast<size_t>(j) * n_ + i]) consider(q, f, best, face, bary);
+    for (int f : faces_of(i, j)) consider(q, f, best, face, bary);
     return best;
   }
   // As locate(), but a point outside the piece gets the face whose affine extension is nearest
@@ -79,6 +116,16 @@ class TriangleGrid {
     if (b.minCoeff() > best) best = b.minCoeff(), face = f, bary = b;
   }
   Eigen::Vector2d corner(int f, int c) const { return X_.row(vertex(f, c)).transpose(); }
+  // The faces of cell (i, j), as a range.
+  struct Range {
+    const int *b, *e;
+    const int* begin() const { return b; }
+    const int* end() const { return e; }
+  };
+  Range faces_of(int i, int j) const {
+    const size_t k = static_cast<size_t>(j) * n_ + i;
+    return {faces_.data() + start_[k], faces_.data() + start_[k + 1]};
+  }
   std::pair<int, int> cell(const Eigen::Vector2d& q) const {
     const Eigen::Vector2d r = ((q - lo_).array() / (hi_ - lo_).cwiseMax(1e-300).array() * n_).matrix();
     return {std::clamp(static_cast<int>(r.x()), 0, n_ - 1), std::clamp(static_cast<int>(r.y()), 0, n_ - 1)};
@@ -87,7 +134,7 @@ class TriangleGrid {
   const JointPiece& piece_;
   Eigen::Vector2d lo_, hi_;
   int n_;
-  std::vector<std::vector<int>> cells_;
+  std::vector<int> start_, faces_;  // cell k's faces: faces_[start_[k], start_[k + 1])
 };
 
 }  // namespace detail
