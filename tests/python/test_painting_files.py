@@ -1,12 +1,12 @@
 """The layered-painting reader's messages (the add-on's painting_files, which needs no Blender): a
 truncated file is called damaged, a missing file not found, a missing layer image named once."""
-import glob
-import importlib.util
 import os
 import re
 import zipfile
 
 import pytest
+
+import painting_attacks
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 EXAMPLE = os.path.join(ROOT, "examples", "sprites", "character.ora")
@@ -14,12 +14,7 @@ EXAMPLE = os.path.join(ROOT, "examples", "sprites", "character.ora")
 
 @pytest.fixture(scope="module")
 def reader():
-    path, = glob.glob(os.path.join(ROOT, "addon", "bdinterp_blender", "**", "painting_files.py"),
-                      recursive=True)
-    spec = importlib.util.spec_from_file_location("painting_files", path)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+    return painting_attacks.reader()
 
 
 def test_the_example_reads_bottom_layer_first(reader):
