@@ -2,6 +2,8 @@
 the coordinates the Path solves in (the drawn object's; world coordinates for a character).
 Reads bpy data, writes nothing."""
 
+from dataclasses import dataclass, field
+
 import bpy
 
 from . import motion_trails
@@ -9,6 +11,12 @@ from ..shapes import mesh_io
 from ..names import SEP
 
 
+def _array(shape, dtype):
+    import numpy as np  # heavy: imported when used
+    return np.empty(shape, dtype=dtype)
+
+
+@dataclass(eq=False)  # compared by identity: the overlay's cache holds one
 class Ghosts:
     """Everything the overlay draws, in the coordinates the Path solves in (`matrix`: the drawn
     object's world matrix for one object, read when drawn; None for a character, solved in world
@@ -17,14 +25,18 @@ class Ghosts:
     value is the current factor; an error message; the motion_trails.Path solved.  Ghosts of
     frames have `offsets` (j,) in frames from the current one and `span` (their tint fades over
     it)."""
-
-    def __init__(self, **kw):
-        import numpy as np
-        empty = np.empty((0, 0, 3))
-        self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
-        self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
-        self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
-        self.__dict__.update(kw)
+    shapes: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    factors: list = field(default_factory=list)
+    trails: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    ticks: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    chords: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    faces: object = field(default_factory=lambda: _array((0, 3), int))
+    edges: object = field(default_factory=lambda: _array((0, 2), int))
+    slider: object = None
+    error: str = ""
+    path: object = None
+    offsets: object = None
+    span: float = 1.0
 
     def in_world(self, points):
         """points (..., 3) of these Ghosts in world coordinates, as drawn now."""
@@ -63,6 +75,17 @@ def selected_vertices(objs):
     return np.concatenate(out)
 
 
+def moving_faces(path):
+    """The faces of path's mesh that the motion moves (a vertex of theirs is elsewhere in the
+    target than in the source): the ghosts tint those only, not the pieces that stand still."""
+    import numpy as np
+    source, target = (np.asarray(s, dtype=np.float64) for s in path.inp.shapes[:2])
+    size = max(np.ptp(source, axis=0).max(), 1e-12)
+    moves = np.linalg.norm(target - source, axis=1) > 1e-6 * size
+    faces = np.asarray(path.inp.faces)
+    return faces[moves[faces].any(axis=1)]
+
+
 def build(objs, view, frame=None, path=None):
     """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
     scene's `frame`; `path`: the motion_trails.Path of the same objects and settings, if one was
@@ -70,7 +93,9 @@ def build(objs, view, frame=None, path=None):
     import numpy as np
     if path is None:
         path = motion_trails.Path(objs, with_solver=view.trails or view.ghost_source != 'BAKED')
-    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
+    faces = moving_faces(path)
+    out = Ghosts(faces=faces, edges=outline(faces) if len(faces) else np.empty((0, 2), int),
+                 path=path)
     baked, names = path.baked_solved()
     if path.found is not None:
         out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)
