@@ -8,8 +8,9 @@ from. The owner and the objects that are members of every one of its groups shar
 are solved as one character in world space (keys.character.CharacterInputs, as a bake of several
 objects is), so their pieces are joined across objects; an object in only some of the groups is
 solved on its own. A frame costs the weights, one blend per member and the write into each
-object's key 'bdi.pose' (relative to the reference key, value 1), in its own coordinates. An error is recorded once in
-Object.bdi_grid_error and printed; the grid then waits for its definition or its keys to change.
+object's key 'bdi.pose' (relative to the reference key, value 1), in its own coordinates. An
+error is recorded once in Object.bdi_grid_error and printed; the grid then waits for its
+definition or its keys to change.
 """
 
 import bpy
@@ -25,12 +26,13 @@ from ..shapes.settings import BakeSettings
 
 
 def definition(obj):
-    """The grids of obj and its members' sizes as plain values (a change rebuilds the State)."""
+    """The grids of obj, its members. sizes and (objects solved together) their world matrices, as
+    plain values (a change rebuilds the State)."""
     return tuple((g.name, tuple((p.name, p.values, p.wrap, p.period) for p in g.params),
                   tuple((n.index, n.key) for n in g.nodes),
                   tuple(m.obj.name for m in g.members if m.obj is not None))
-                 for g in obj.bdi_grids) + tuple((o.name, len(o.data.vertices)) for o in members(obj)) \
-        + _placement(obj)
+                 for g in obj.bdi_grids) \
+        + tuple((o.name, len(o.data.vertices)) for o in members(obj)) + _placement(obj)
 
 
 def _placement(obj):
