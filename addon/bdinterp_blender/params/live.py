@@ -26,7 +26,7 @@ from ..shapes.settings import BakeSettings
 
 
 def definition(obj):
-    """The grids of obj, its members. sizes and (objects solved together) their world matrices, as
+    """The grids of obj, its members' sizes and (objects solved together) their world matrices, as
     plain values (a change rebuilds the State)."""
     return tuple((g.name, tuple((p.name, p.values, p.wrap, p.period) for p in g.params),
                   tuple((n.index, n.key) for n in g.nodes),
