@@ -81,13 +81,13 @@ def register():
         _modules = [ui.degraded]
     else:
         from .ui import properties, operators
-        from .view import onion, drawing_bind
+        from .view import onion, drawing_bind, joint_view
         from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
         from .strokes import ops as strokes_ops
         from .params import live as grid_live
         from .ui import pose_grids
-        _modules = [properties, onion, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
+        _modules = [properties, onion, joint_view, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
                     strokes_ops, grid_live, pose_grids]
     for mod in _modules:
         mod.register()

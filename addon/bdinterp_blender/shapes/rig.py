@@ -154,3 +154,30 @@ def _rigid_fit(A, B, p):
     U, _, Vt = np.linalg.svd((A - a).T @ (B - b))
     D = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))])
     return Vt.T @ D @ U.T @ (p - a) + b
+
+
+def hand_set(members, labels):
+    """[(child vertex, parent vertex, (child's name, parent's name))] of the members whose joint
+    parent is set by hand (Object.bdi.joint_parent): each object's largest piece under the
+    parent object's largest piece. BakeError for a parent that is not one of the members."""
+    names = {m.obj.name: m for m in members}
+    out = []
+    for m in members:
+        parent = getattr(getattr(m.obj, "bdi", None), "joint_parent", None)
+        if parent is None:
+            continue
+        if parent.name not in names:
+            raise BakeError("%s: its joint parent %r is not part of the character (%s): select it "
+                            "too, or set the parent to Automatic"
+                            % (m.obj.name, parent.name, ", ".join(sorted(names))))
+        out.append((_largest_piece(m, labels), _largest_piece(names[parent.name], labels),
+                    (repr(m.obj.name), repr(parent.name))))
+    return out
+
+
+def _largest_piece(member, labels):
+    """The solved mesh's first vertex of the member's piece with the most vertices."""
+    import numpy as np
+    local = np.asarray(labels[member.offset:member.offset + len(member.source)])
+    pieces, first, counts = np.unique(local, return_index=True, return_counts=True)
+    return int(member.offset + first[np.argmax(counts)])

@@ -85,10 +85,12 @@ def drawn_objects(context):
 
 def solve_key(objs):
     """What a Path depends on, cheap to compare: the objects, their settings and topology (vertex,
-    face and loop counts), the epoch (bumped when their keys' data change) and, for a character
+    face and loop counts), the epoch (bumped when their keys' data change), the joint parents set
+    by hand and, for a character
     (solved in world coordinates), the objects' transforms.  One object's transform is not in
     it: its ghosts are drawn with its matrix."""
     return (tuple(o.name for o in objs), motion_trails.settings_of(objs[0].bdi), _epoch[0],
+            tuple(getattr(o.bdi.joint_parent, "name", "") for o in objs),
             tuple((len(o.data.vertices), len(o.data.polygons), len(o.data.loops)) for o in objs),
             tuple(tuple(v for row in o.matrix_world for v in row) for o in objs) if len(objs) > 1 else ())
 
