@@ -13,11 +13,11 @@ parameters: grids of poses followed live, Bake Grid) -> api (the scripting facad
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
 MODULES = ("core", "names", "actions", "timing", "changes",
-           "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
+           "shapes.mesh_io", "shapes.hand_joints", "shapes.rig", "shapes.settings", "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
            "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.ghosts", "view.onion",
-           "view.locate", "view.drawing_bind",
+           "view.locate", "view.drawing_bind", "view.joint_view",
            "params.live", "params.setup", "params.bake_grid",
            "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators", "ui.panels",
            "ui.pose_grids")
