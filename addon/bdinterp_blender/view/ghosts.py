@@ -2,6 +2,8 @@
 the coordinates the Path solves in (the drawn object's; world coordinates for a character).
 Reads bpy data, writes nothing."""
 
+from dataclasses import dataclass, field
+
 import bpy
 
 from . import motion_trails
@@ -9,6 +11,12 @@ from ..shapes import mesh_io
 from ..names import SEP
 
 
+def _array(shape, dtype):
+    import numpy as np  # heavy: imported when used
+    return np.empty(shape, dtype=dtype)
+
+
+@dataclass(eq=False)  # compared by identity: the overlay's cache holds one
 class Ghosts:
     """Everything the overlay draws, in the coordinates the Path solves in (`matrix`: the drawn
     object's world matrix for one object, read when drawn; None for a character, solved in world
@@ -17,14 +25,18 @@ class Ghosts:
     value is the current factor; an error message; the motion_trails.Path solved.  Ghosts of
     frames have `offsets` (j,) in frames from the current one and `span` (their tint fades over
     it)."""
-
-    def __init__(self, **kw):
-        import numpy as np
-        empty = np.empty((0, 0, 3))
-        self.shapes, self.factors, self.trails, self.ticks, self.chords = empty, [], empty, empty, empty
-        self.faces, self.edges = np.empty((0, 3), int), np.empty((0, 2), int)
-        self.slider, self.error, self.path, self.offsets, self.span = None, "", None, None, 1.0
-        self.__dict__.update(kw)
+    shapes: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    factors: list = field(default_factory=list)
+    trails: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    ticks: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    chords: object = field(default_factory=lambda: _array((0, 0, 3), float))
+    faces: object = field(default_factory=lambda: _array((0, 3), int))
+    edges: object = field(default_factory=lambda: _array((0, 2), int))
+    slider: object = None
+    error: str = ""
+    path: object = None
+    offsets: object = None
+    span: float = 1.0
 
     def in_world(self, points):
         """points (..., 3) of these Ghosts in world coordinates, as drawn now."""
