@@ -13,7 +13,6 @@ from bpy.app.handlers import persistent
 from bpy.props import BoolProperty
 
 from . import motion_trails, onion
-from .. import changes
 
 RING = 8  # dots around a root's centre
 
@@ -153,19 +152,10 @@ def register():
         name="Joint Tree", default=False, update=lambda _self, _context: refresh(),
         description="Draw the joint tree a bake will use: joints as dots, parent links as lines, "
                     "roots ringed")
-    _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
-    for handlers, fn in HANDLERS:
-        handlers.append(fn)
-    changes.subscribe(2, on_changes)
+    onion.hook(_handle, draw_callback, HANDLERS, on_changes)
 
 
 def unregister():
-    changes.unsubscribe(on_changes)
-    for handle in _handle:
-        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
-    _handle.clear()
-    for handlers, fn in HANDLERS:
-        if fn in handlers:
-            handlers.remove(fn)
+    onion.unhook(_handle, HANDLERS, on_changes)
     _cache.update(key=None, plan=None, batches=None, error="")
     del bpy.types.Scene.bdi_view_joints

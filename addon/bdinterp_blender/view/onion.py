@@ -257,23 +257,34 @@ HANDLERS = ((bpy.app.handlers.undo_post, forget), (bpy.app.handlers.redo_post, f
             (bpy.app.handlers.load_post, on_load))
 
 
+def hook(handles, draw, handlers, changed):
+    """Install a viewport overlay: its draw callback (its handle appended to `handles`), its
+    (app handler list, function) pairs and its changes.py subscriber."""
+    handles.append(bpy.types.SpaceView3D.draw_handler_add(draw, (), 'WINDOW', 'POST_VIEW'))
+    for app_handlers, fn in handlers:
+        app_handlers.append(fn)
+    changes.subscribe(2, changed)
+
+
+def unhook(handles, handlers, changed):
+    """Remove what hook() installed."""
+    changes.unsubscribe(changed)
+    for handle in handles:
+        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    handles.clear()
+    for app_handlers, fn in handlers:
+        if fn in app_handlers:
+            app_handlers.remove(fn)
+
+
 def register():
     bpy.utils.register_class(BDI_ViewProps)
     bpy.types.Scene.bdi_view = bpy.props.PointerProperty(type=BDI_ViewProps)
-    _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
-    for handlers, fn in HANDLERS:
-        handlers.append(fn)
-    changes.subscribe(2, on_changes)
+    hook(_handle, draw_callback, HANDLERS, on_changes)
 
 
 def unregister():
-    changes.unsubscribe(on_changes)
-    for handle in _handle:
-        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
-    _handle.clear()
-    for handlers, fn in HANDLERS:
-        if fn in handlers:
-            handlers.remove(fn)
+    unhook(_handle, HANDLERS, on_changes)
     on_load()
     del bpy.types.Scene.bdi_view
     bpy.utils.unregister_class(BDI_ViewProps)
