@@ -5,12 +5,13 @@ the Interpolator and its frames).  Prints the median of R runs and each stage on
 
     PYTHONPATH=python /usr/bin/python3 scripts/bench_strokes.py [N P K R]   (default 200 100 10 5)
 """
+import os
 import sys
 import time
 
 import numpy as np
 
-sys.path.insert(0, __import__("os").path.join(__import__("os").path.dirname(__file__), "..", "examples", "strokes"))
+sys.path.insert(0, os.path.join(os.path.dirname(__file__), "..", "examples", "strokes"))
 import drawn  # noqa: E402
 from bdinterp.strokes import StrokeInterpolator  # noqa: E402
 

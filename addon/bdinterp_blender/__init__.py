@@ -13,13 +13,15 @@ parameters: grids of poses followed live, Bake Grid) -> api (the scripting facad
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
 MODULES = ("core", "names", "actions", "timing", "changes",
-           "shapes.mesh_io", "shapes.hand_joints", "shapes.rig", "shapes.settings", "shapes.solve",
+           "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.hand_joints", "shapes.settings",
+           "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
-           "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.live",
+           "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.posing", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.ghosts", "view.onion",
            "view.locate", "view.drawing_bind", "view.joint_view",
            "params.live", "params.setup", "params.bake_grid",
-           "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators", "ui.panels",
+           "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators",
+           "ui.pose_operators", "ui.panels",
            "ui.pose_grids")
 
 if "api" in locals():  # F3 "Reload Scripts" / addon_utils reload: reload submodules, lowest first
@@ -53,6 +55,7 @@ alias_package(sys.modules[__name__])
 from .api import (bake, blend, clear, compute_frames, set_live, hide_distortion,  # noqa: E402
                   show_distortion, BakeError)
 from .api import bake_live, bake_for_export, error_bound_factors, remove_export_bake  # noqa: E402
+from .api import add_pose, torn_joints  # noqa: E402
 from .files.sprite_mesh import mesh_from_image  # noqa: E402
 from .files.layered_import import import_layered  # noqa: E402
 from .view.motion_trails import trails  # noqa: E402
@@ -65,7 +68,8 @@ __all__ = ["bake", "bake_live", "bake_for_export", "remove_export_bake", "error_
            "clear", "compute_frames", "set_live", "show_distortion", "hide_distortion", "BakeError",
            "mesh_from_image", "import_layered", "load_core", "core_status", "build_info", "trails",
            "bind_drawing", "unbind_drawing", "interpolate_drawing", "pose_grid", "drive_by_bone",
-           "remove_pose_grid", "bake_grid", "pose_grid_report"]
+           "remove_pose_grid", "bake_grid", "pose_grid_report",
+           "add_pose", "torn_joints"]
 
 _modules = []
 
@@ -80,14 +84,15 @@ def register():
         ui.CORE_ERROR = message
         _modules = [ui.degraded]
     else:
-        from .ui import properties, operators
+        from .ui import properties, operators, pose_operators
         from .view import onion, drawing_bind, joint_view
         from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
         from .strokes import ops as strokes_ops
         from .params import live as grid_live
         from .ui import pose_grids
-        _modules = [properties, onion, joint_view, drawing_bind, operators, ui, live_mod, sprite_mesh, layered_import,
+        _modules = [properties, onion, joint_view, drawing_bind, operators, pose_operators, ui,
+                    live_mod, sprite_mesh, layered_import,
                     strokes_ops, grid_live, pose_grids]
     for mod in _modules:
         mod.register()

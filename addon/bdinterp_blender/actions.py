@@ -16,6 +16,11 @@ def _anim_utils():
     return anim_utils if hasattr(anim_utils, "action_get_channelbag_for_slot") else None
 
 
+def slotted():
+    """True where an action has slots, one per ID it animates (Blender 4.4+)."""
+    return _anim_utils() is not None
+
+
 def action_fcurves(anim, create=False):
     """The F-curve collection that animates `anim`'s ID in its action (it has find/new/remove), or
     None where there is no action (or, unless `create`, no channelbag for the ID's slot yet).

@@ -15,7 +15,7 @@ RuntimeError from the solver) leaves the object unchanged.
 
 import time
 
-from .keys import baking, character, export, live, playback
+from .keys import baking, character, export, live, playback, posing
 from .view import distortion
 from .shapes import mesh_io, solve
 from .keys.baking import BakeJob, BakeResult, run, write_key
@@ -26,7 +26,7 @@ from .shapes.solve import Inputs, max_distortion, pose_weights  # noqa: F401 -- 
 
 __all__ = ["bake", "bake_job", "blend", "clear", "compute_frames", "set_live", "bake_live",
            "show_distortion", "hide_distortion", "bake_for_export", "remove_export_bake",
-           "error_bound_factors", "job_of", "settings_of", "BakeJob", "BakeSettings", "BakeResult",
+           "error_bound_factors", "job_of", "settings_of", "add_pose", "torn_joints", "BakeJob", "BakeSettings", "BakeResult",
            "BakeError", "LIVE_KEY", "DEFAULT_TOLERANCE"]
 
 
@@ -243,6 +243,21 @@ def bake_live(obj, count=None):
     result = baking.bake_live(obj, count, job_of=lambda _obj, settings: job_of(objs, settings))
     live.remove_keys(objs[1:])
     return result
+
+
+def add_pose(objs, name=None):
+    """A new pose of a cut-out character in one step: a shape key `name` (default 'Pose', or
+    'Pose 2' ... where taken) on every mesh of objs, a copy of its reference key (Basis made
+    where missing), active and chosen as each object's target; edit it, then bake. Returns the
+    name; BakeError, nothing changed, if a mesh has that key already."""
+    return posing.add_pose(objs, name)
+
+
+def torn_joints(objs, target, source=None):
+    """The joints of the character objs (pieces joined where they overlap in the source key) that
+    the pose source -> target tears apart: [(piece, the piece it hangs from, how far apart, in
+    world units)], furthest first; [] when every joint holds."""
+    return posing.torn_joints(objs, target, source)
 
 
 def show_distortion(obj, key=None, visible=True):

@@ -98,15 +98,8 @@ def steps(addon):
         bpy.ops.view3d.view_selected()
     yield
     _, _, region = view3d()
-    top = region.y + region.height
-    for dy in range(20, min(region.height, 600), 16):  # click down the tab strip until ours shows
-        if calls.get("BDINTERP_PT_main.draw"):
-            break
-        x, y = region.x + region.width - 9, top - dy
-        window.event_simulate('MOUSEMOVE', 'NOTHING', x=x, y=y)
-        window.event_simulate('LEFTMOUSE', 'PRESS', x=x, y=y)
-        window.event_simulate('LEFTMOUSE', 'RELEASE', x=x, y=y)
-        yield
+    from window_steps import click_tabs
+    yield from click_tabs(window, region, lambda: calls.get("BDINTERP_PT_main.draw"))
     for _ in range(3):
         yield
     result = {"calls": calls, "errors": errors, "object": obj.name}

@@ -24,6 +24,20 @@ def bent_strip(x_subdivisions, y_subdivisions, scale_y, degrees, key):
     return obj
 
 
+def click_tabs(window, region, opened):
+    """Click down the tab strip of the sidebar `region` until opened() (e.g. the add-on's panel has
+    drawn); a generator: each yield lets Blender draw."""
+    top = region.y + region.height
+    for dy in range(20, min(region.height, 600), 16):
+        if opened():
+            return
+        x, y = region.x + region.width - 9, top - dy
+        window.event_simulate('MOUSEMOVE', 'NOTHING', x=x, y=y)
+        window.event_simulate('LEFTMOUSE', 'PRESS', x=x, y=y)
+        window.event_simulate('LEFTMOUSE', 'RELEASE', x=x, y=y)
+        yield
+
+
 def run_steps(steps, result, interval):
     """Run the generator `steps` from a timer, one step every `interval` seconds (each yield lets
     Blender draw); then print 'JSON:' and `result` (with 'error': the traceback if a step failed)

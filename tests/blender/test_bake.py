@@ -193,6 +193,14 @@ def test_error_non_planar_key_says_by_how_much(addon):
     add_key(obj, "Bumpy", bad)
     configure(obj, "Bumpy")
     _unchanged_after_error(obj, r"Strip: key 'Bumpy', vertex 5: not planar: 0\.05 off the plane")
+    # and what to do about it
+    _unchanged_after_error(obj, r"\. To fix it, flatten that key: in Edit Mode .* or raise "
+                                r"Planarity under Expert$")
+
+
+def test_automatic_joints_are_called_automatic(addon):
+    items = bpy.types.Object.bl_rna.properties["bdi"].fixed_type.properties["joints"].enum_items
+    assert items["AUTO"].name == "Automatic"
 
 
 def test_error_mesh_without_keys(addon):

@@ -199,6 +199,39 @@ def test_bake_for_export_shows_and_exports_what_the_slider_showed(baked):
                    "blender": bpy.app.version_string}, f)
 
 
+def glb_animations(path):
+    """The names of a .glb's animations (its JSON chunk)."""
+    with open(path, "rb") as f:
+        data = f.read()
+    length = int.from_bytes(data[12:16], "little")
+    return sorted(a.get("name", "") for a in json.loads(data[20:20 + length]).get("animations", []))
+
+
+def test_bake_for_export_names_the_actions_after_the_slider(baked):
+    case, path, truth, _, _ = baked
+    bpy.ops.wm.open_mainfile(filepath=path)
+    objs = objects(truth)
+    slider = "head" if case == "face_grid" else cb.TARGET + ".bdi"  # the grid's name, or the slider
+    others = ["RigAction"] if case == "face_grid" else []  # the face's bones have an action too
+    names = [o.data.shape_keys.animation_data.action.name for o in objs]
+    glb = os.path.join(OUT, case + ".named.glb")
+    export_gltf(glb)
+    if bpy.app.version >= (4, 4, 0):  # slotted actions: one action, a slot per piece
+        assert names == [slider] * len(objs)
+        assert len({o.data.shape_keys.animation_data.action_slot.handle for o in objs}) == len(objs)
+        assert glb_animations(glb) == sorted([slider] + others)
+    else:  # one action per piece, the slider's name then the piece's
+        assert names == ["%s|%s" % (slider, o.name) for o in objs]
+        assert glb_animations(glb) == sorted(names + others)
+        # one clip (docs/KEYFRAMES.md): the active actions merged under the slider's name
+        options = bpy.ops.export_scene.gltf.get_rna_type().properties.keys()
+        merged = (dict(export_animation_mode='ACTIVE_ACTIONS') if "export_animation_mode" in options
+                  else dict(export_nla_strips=False))
+        bpy.ops.export_scene.gltf(filepath=glb, export_format='GLB', export_animations=True,
+                                  export_nla_strips_merged_animation_name=slider, **merged)
+        assert glb_animations(glb) == [slider]
+
+
 def test_remove_export_bake_restores_the_drivers(baked):
     case, path, truth, size, before = baked
     bpy.ops.wm.open_mainfile(filepath=path)

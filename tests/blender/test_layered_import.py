@@ -11,7 +11,7 @@ import bpy
 import numpy as np
 import pytest
 
-from conftest import ROOT, read_key
+from conftest import ROOT, read_key, triangles
 
 SCALE = 0.01
 
@@ -55,7 +55,14 @@ def ora(tmp_path):
 def world_co(obj):
     co = np.empty(len(obj.data.vertices) * 3)
     obj.data.vertices.foreach_get("co", co)
-    return co.reshape(-1, 3)
+    m = np.array(obj.matrix_world)
+    return co.reshape(-1, 3) @ m[:3, :3].T + m[:3, 3]
+
+
+def local_co(obj, world):
+    """World coordinates world (n, 3) in obj's local coordinates."""
+    m = np.array(obj.matrix_world)
+    return np.linalg.solve(m[:3, :3], (world - m[:3, 3]).T).T
 
 
 def assert_placed(obj, x, y, rect):
@@ -102,7 +109,7 @@ def test_broken_file_imports_nothing(addon, ora, tmp_path):
             if item != "data/arm.png":
                 dst.writestr(item, src.read(item))
     before = (len(bpy.data.objects), len(bpy.data.meshes), len(bpy.data.images), len(bpy.data.materials))
-    with pytest.raises(ValueError, match="layer 'arm'.*data/arm.png.*missing"):
+    with pytest.raises(ValueError, match="layer 'arm': its image 'data/arm.png' is missing"):
         bdinterp_blender.import_layered(str(broken))
     with pytest.raises(ValueError, match="not an OpenRaster file"):
         bdinterp_blender.import_layered(str(tmp_path / "head.png"))
@@ -231,7 +238,8 @@ def turned(co, centre, angle):
     return out
 
 
-def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
+def raised_arm(tmp_path):
+    """CHARACTER imported, with the key 'Raise' on every piece: the arm raised about the shoulder."""
     import bdinterp_blender
     nodes = []
     for z, (name, (x, y, w, h)) in enumerate(CHARACTER.items()):
@@ -244,14 +252,33 @@ def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
         obj.shape_key_add(name="Basis")
         co = world_co(obj)
         target = turned(co, centre, RAISE) if obj.name == "arm" else co
-        obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set("co", target.ravel())
+        obj.shape_key_add(name="Raise", from_mix=False).data.foreach_set(
+            "co", local_co(obj, target).ravel())
+    return objs, centre
+
+
+def test_onion_skins_tint_only_the_pieces_that_move(addon, tmp_path):
+    from bdinterp_blender.view import ghosts, motion_trails
+    objs, _ = raised_arm(tmp_path)
+    path = motion_trails.Path(objs, target="Raise", with_solver=False)
+    faces = ghosts.moving_faces(path)
+    first = [o.name for o in path.objs].index("arm")
+    sizes = np.cumsum([0] + [len(o.data.vertices) for o in path.objs])
+    arm = (sizes[first] <= faces) & (faces < sizes[first + 1])
+    assert len(faces) == len(triangles(objs[[o.name for o in objs].index("arm")])), len(faces)
+    assert arm.all()  # the torso and the head stand still: no ghost of theirs
+
+
+def test_imported_character_bakes_the_arm_about_the_shoulder(addon, tmp_path):
+    import bdinterp_blender
+    objs, centre = raised_arm(tmp_path)
     result = bdinterp_blender.bake(objs, target="Raise", count=1)
     assert (result.objects, result.keys) == (3, ["Raise.bdi.050"])
     assert result.joints == 1  # the shoulder's pin (the head and the torso are both still)
     everything = np.concatenate([world_co(o) for o in objs])
     size = np.ptp(everything[:, [0, 2]], axis=0).max()
     for obj in objs:
-        half = read_key(obj, "Raise.bdi.050")
+        half = read_key(obj, "Raise.bdi.050") + np.array(obj.location)
         expected = turned(world_co(obj), centre, RAISE / 2) if obj.name == "arm" else world_co(obj)
         tolerance = 0.005 if obj.name == "arm" else 1e-6
         assert np.abs(half - expected).max() <= tolerance * size, obj.name
@@ -272,3 +299,30 @@ def test_the_example_character_imports_in_draw_order(addon):
         assert x <= co[:, 0].min() and co[:, 0].max() <= x + w, obj.name
         assert -y - h <= co[:, 2].min() and co[:, 2].max() <= -y, obj.name
     assert_drawn_in_order(objs)
+
+
+# The example's pieces and the piece each hangs from (the torso, the largest, hangs from none).
+PARENTS = {"head": "torso", "upper_arm_l": "torso", "upper_arm_r": "torso", "thigh_l": "torso",
+           "thigh_r": "torso", "forearm_l": "upper_arm_l", "forearm_r": "upper_arm_r",
+           "shin_l": "thigh_l", "shin_r": "thigh_r"}
+
+
+def test_each_layer_object_has_its_origin_at_its_depth_and_joint(addon):
+    import bdinterp_blender
+    objs = bdinterp_blender.import_layered(os.path.join(ROOT, "examples", "sprites", "character.ora"),
+                                           scale=SCALE)
+    depth = [o.location.y for o in objs]  # renderers sort blended objects by origin: no ties
+    assert all(a - b > 0.5 * bdinterp_blender.files.layered_import.DEPTH for a, b in zip(depth, depth[1:]))
+    by_name = {o.name: o for o in objs}
+    for obj in objs:
+        assert np.abs(world_co(obj)[:, 1] - obj.location.y).max() < 1e-9, obj.name
+        co = world_co(obj)
+        if obj.name not in PARENTS:  # the root turns about its middle
+            middle = (co.min(0) + co.max(0)) / 2
+            assert np.abs(np.array(obj.location) - middle)[[0, 2]].max() <= SCALE, obj.name
+            continue
+        for piece in (obj, by_name[PARENTS[obj.name]]):  # the joint lies where both pieces are
+            box = world_co(piece)
+            x, z = obj.location.x, obj.location.z
+            assert box[:, 0].min() < x < box[:, 0].max() and box[:, 2].min() < z < box[:, 2].max(), \
+                (obj.name, piece.name)

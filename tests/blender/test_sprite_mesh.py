@@ -96,6 +96,20 @@ def test_panel_and_menu(addon):
     assert not panel.poll(bpy.context)  # a mesh with keys is past this step
 
 
+def test_spacing_0_is_said_in_words(addon):
+    from bdinterp_blender.files import sprite_mesh
+    assert sprite_mesh.spacing_zero("CUSTOM", None) == "0: automatic"
+    assert sprite_mesh.spacing_zero("BENDS", None) == "0: from the preset (12 edges across)"
+    image = bpy.data.images.new("sheet", 240, 96, alpha=True)
+    mat = bpy.data.materials.new("m")
+    mat.use_nodes = True
+    mat.node_tree.nodes.new("ShaderNodeTexImage").image = image
+    bpy.ops.mesh.primitive_plane_add()
+    bpy.context.object.data.materials.append(mat)
+    assert sprite_mesh.spacing_zero("FACE", bpy.context.object) == \
+        "0: from the preset (24 edges across = 10 px)"
+
+
 def test_the_dialog_meshes_once_per_changed_setting(addon):
     """The dialog's draw() runs on every redraw: the triangle count it shows is meshed once per
     request, and Apply uses that mesh (no third run); a changed setting meshes again."""

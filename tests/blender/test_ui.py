@@ -132,7 +132,8 @@ def test_long_messages_wrap_to_region_width(addon):
 def test_panel_without_shape_keys_explains(addon):
     bpy.ops.mesh.primitive_plane_add()
     log = draw_all(bpy.context)
-    assert ("label", "Add at least two shape keys") in log
+    assert ("label", "Add a pose: a key on every selected piece") in log
+    assert ("operator", "bdinterp.add_pose") in log  # the way on, one click
 
 
 def test_every_icon_in_the_source_exists_in_this_blender(addon):

@@ -93,7 +93,7 @@ ORA = {  # name: (writer of the file at path, what the message says)
                           "members, more than the limit of 4000"),
     "member longer than its recorded size": (lambda p: p.write_bytes(pa.raw_zip([
         pa.stored("stack.xml", _layers(1).encode()), ("a.png", 0, 0, 40, PNG)])), "not an OpenRaster file"),
-    "not a zip": (lambda p: p.write_bytes(b"PK\3\4" + os.urandom(200)), "is not an OpenRaster file"),
+    "not a zip": (lambda p: p.write_bytes(b"PK\3\4" + os.urandom(200)), "is damaged"),  # a zip's start only
     "missing image": (lambda p: pa.ora(p, _layers(1), {}), "its image 'a.png' is missing"),
 }
 

@@ -3,8 +3,12 @@ export (painting_files) imported as cut-out pieces: each layer becomes a mesh fr
 (bdinterp.mesh_from_image; a sprite sheet's frame for several tiles), textured with its image
 (alpha blended, times the layer's opacity), placed where the painting has it in Blender's front
 (XZ) plane: the canvas's x to +x, its y (downwards) to -z, one pixel = `scale` units, the canvas's
-top-left corner at the origin, a layer drawn higher nearer the front view (smaller y). Everything
-is read and meshed before any object is created."""
+top-left corner at the world origin, a layer drawn higher nearer the front view (smaller y).
+Each layer object's origin lies at its own depth: renderers sort alpha-blended objects by their
+origins, so the painting's order holds in every view and render (also once a bake's drivers change
+the order in which objects are evaluated); in the picture's plane it lies where the piece turns
+(pivots.pivots: its joint with the piece it hangs from, else its middle). Everything is read and
+meshed before any object is created."""
 import os
 import tempfile
 
@@ -13,6 +17,7 @@ import bpy
 from ..core import load_core
 from .painting_files import read_painting
 from . import sprite_mesh
+from ..shapes import pivots
 
 DEPTH = 1e-3  # Blender units between consecutive layers, in the draw order
 
@@ -60,7 +65,8 @@ def _load(layer, tmp, index):
 
 
 def _piece(bd, layer, image, params):
-    """(vertices (n, 3) at depth 0, faces, uvs) of the layer's image (its frame of a sprite sheet)."""
+    """(vertices (n, 3) at depth 0, faces, uvs, mask) of the layer's image (its frame of a sprite
+    sheet); mask: (x, y, opaque pixels (h, w) bool) in the canvas, for pivots.pivots."""
     import numpy as np
     columns, rows, frame = layer.tiles
     w, h = image.size
@@ -77,37 +83,45 @@ def _piece(bd, layer, image, params):
     V = mesh.vertices  # pixels in the frame, y up from its bottom
     co = np.c_[(layer.x + V[:, 0]), np.zeros(len(V)), -(layer.y + th - V[:, 1])]
     uvs = (V + [left, h - top - th]) / [w, h]
-    return co, mesh.faces, uvs
+    mask = alpha >= params.get("threshold", 0.5)
+    return co, mesh.faces, uvs, (int(round(layer.x)), int(round(layer.y)), mask)
 
 
 def _plans(path, scale, params):
-    """Per visible layer, bottom first: (name, image, opacity, vertices (n, 3), faces, uvs)."""
+    """Per visible layer, bottom first: (name, image, opacity, vertices (n, 3), faces, uvs, pivot
+    (3,)), all in world coordinates (pivots.pivots: where the piece joins its parent, or its
+    middle)."""
     bd = load_core()
     layers = read_painting(path)
     if not layers:
         raise ValueError("%r has no visible layer" % os.fspath(path))
-    plans, images = [], []
+    plans, images, masks = [], [], []
     try:
         with tempfile.TemporaryDirectory() as tmp:
             for depth, layer in enumerate(layers):
                 images.append(_load(layer, tmp, depth))
-                co, faces, uvs = _piece(bd, layer, images[-1], params)
+                co, faces, uvs, mask = _piece(bd, layer, images[-1], params)
                 co *= scale
                 co[:, 1] = -depth * DEPTH
                 plans.append((layer.name, images[-1], layer.opacity, co, faces, uvs))
+                masks.append(mask)
+            points = pivots.pivots(masks)[1]
     except BaseException as e:
         for image in images:
             bpy.data.images.remove(image)
         if isinstance(e, ValueError):  # a layer's error, said with the file's name
             raise ValueError("%r: %s" % (os.fspath(path), e)) from None
         raise
-    return plans
+    return [plan + ((x * scale, -depth * DEPTH, -y * scale),)
+            for depth, (plan, (x, y)) in enumerate(zip(plans, points))]
 
 
-def _object(name, parts):
-    """One mesh object of parts [(material, co, faces, uvs)], a material slot each."""
+def _object(name, parts, origin=(0.0, 0.0, 0.0)):
+    """One mesh object of parts [(material, co, faces, uvs)] (world coordinates), a material slot
+    each, its origin at `origin` (world coordinates)."""
     import numpy as np
-    co = np.concatenate([p[1] for p in parts])
+    origin = np.asarray(origin, dtype=np.float64)
+    co = np.concatenate([p[1] for p in parts]) - origin
     offsets = np.cumsum([0] + [len(p[1]) for p in parts])
     faces = np.concatenate([p[2] + o for p, o in zip(parts, offsets)])
     uvs = np.concatenate([p[3] for p in parts])
@@ -118,6 +132,7 @@ def _object(name, parts):
     me.polygons.foreach_set("material_index", np.repeat(np.arange(len(parts)), [len(p[2]) for p in parts]))
     me.update()
     obj = bpy.data.objects.new(name, me)
+    obj.location = origin.tolist()
     bpy.context.scene.collection.objects.link(obj)
     return obj
 
@@ -127,16 +142,17 @@ def import_layered(path, *, one_object=False, scale=0.01, **params):
     returns the objects, selected. ValueError naming the file or layer, with nothing imported."""
     plans = _plans(path, scale, params)
     parts = [(_material(name, image, opacity), co, faces, uvs)
-             for name, image, opacity, co, faces, uvs in plans]
+             for name, image, opacity, co, faces, uvs, _ in plans]
     if one_object:
         objs = [_object(os.path.splitext(os.path.basename(os.fspath(path)))[0], parts)]
     else:
-        objs = [_object(plan[0], [part]) for plan, part in zip(plans, parts)]
+        objs = [_object(plan[0], [part], plan[-1]) for plan, part in zip(plans, parts)]
     for o in bpy.context.view_layer.objects:
         o.select_set(False)
     for o in objs:
         o.select_set(True)
     bpy.context.view_layer.objects.active = objs[-1]
+    bpy.context.view_layer.update()  # the objects' matrices, for what reads them next (a bake)
     return objs
 
 

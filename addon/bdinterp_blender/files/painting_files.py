@@ -212,9 +212,28 @@ def ora_layers(path):
     except (OSError, EOFError, zipfile.BadZipFile, zipfile.LargeZipFile, KeyError, ET.ParseError,
             zlib.error, lzma.LZMAError, struct.error, NotImplementedError,
             RuntimeError) as e:  # NotImplementedError: an unknown compression; RuntimeError: encrypted
-        raise ValueError("%r is not an OpenRaster file%s (%s: %s)" % (
-            where, "" if name is None else " (layer %.200r)" % name, type(e).__name__, e)) from None
+        raise ValueError(_unreadable(where, name, e)) from None
     return found[::-1]
+
+
+def _unreadable(where, name, error):
+    """Why the OpenRaster file `where` could not be read, in plain words: not found, damaged (a
+    zip's start without its end: cut short while saved or copied), no stack.xml, or not one."""
+    if isinstance(error, FileNotFoundError):
+        return "%r not found: check the file's name and folder" % where
+    if isinstance(error, zipfile.BadZipFile) and name is None:
+        try:
+            with open(where, "rb") as f:
+                zipped = f.read(4) == b"PK\x03\x04"
+        except OSError:
+            zipped = False
+        if zipped:
+            return ("%r is damaged (it ends too early: %s): save or copy it again from the "
+                    "painting program" % (where, error))
+    if isinstance(error, KeyError) and name is None and "stack.xml" in str(error):
+        return "%r is not an OpenRaster file: it has no stack.xml" % where
+    return "%r is not an OpenRaster file%s (%s: %s)" % (
+        where, "" if name is None else " (layer %.200r)" % name, type(error).__name__, error)
 
 
 # ---------------------------------------------------------------------------------------- COA Tools

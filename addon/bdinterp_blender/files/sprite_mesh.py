@@ -119,6 +119,17 @@ def params_of(op, obj):
     return params
 
 
+def spacing_zero(preset, obj):
+    """What Spacing 0 means, in words: the preset's edges across the sprite (in pixels for obj's
+    image), or automatic (Custom: the core's default)."""
+    if preset not in PRESETS:
+        return "0: automatic"
+    divisions = PRESETS[preset][2]["spacing_divisions"]
+    image = image_of(obj) if obj is not None and obj.type == 'MESH' else None
+    size = " = %.0f px" % (max(image.size) / divisions) if image is not None else ""
+    return "0: from the preset (%d edges across%s)" % (divisions, size)
+
+
 _previews = {}   # the dialog's plans: request (preview_key) -> plan or the error's message
 
 
@@ -179,9 +190,11 @@ class BDINTERP_OT_mesh_from_image(bpy.types.Operator):
         return context.window_manager.invoke_props_dialog(self)
 
     def draw(self, context):
+        obj = context.active_object
         for name in ("preset", "threshold", "spacing", "detail", "padding", "min_angle"):
             self.layout.prop(self, name)
-        obj = context.active_object
+            if name == "spacing" and self.spacing == 0:  # say what 0 means, not only "0.00"
+                self.layout.label(text=spacing_zero(self.preset, obj), icon='INFO')
         try:  # the triangle count before applying (the active object's)
             count = len(preview(obj, params_of(self, obj))[1])
             self.layout.label(text="%s: %d triangles" % (obj.name, count))

@@ -121,7 +121,8 @@ class BakeJob:
             note += ", so the slider drives the copy %r instead" % end_key
         return Plan(obj=obj, owner=owner, source=src.name, target=tgt.name, names=names,
                     frames=frames, end_key=end_key, slider=slider, note=note,
-                    signature=playback.signature(tgt))
+                    signature=playback.signature(tgt), members=[obj.name],
+                    inputs=playback.inputs_signature(obj, src.name, tgt.name))
 
     def result(self, inp, frames, note):
         """The BakeResult of frames (keys and slider filled in by write())."""
@@ -140,13 +141,16 @@ class BakeJob:
             return keys, None
         return keys, playback.install(obj, plan.source, plan.target, keys, self.positions,
                                       end=written[-1] if plan.end_key else None,
-                                      signature_=plan.signature, slider=plan.slider, owner=plan.owner)
+                                      signature_=plan.signature, slider=plan.slider, owner=plan.owner,
+                                      inputs=plan.inputs, members=plan.members)
 
 
 @dataclass
 class Plan:
     """What BakeJob.write() writes into one object (see BakeJob.plan): keys `names` with `frames`
-    relative to `source`, an `end_key` copy of the target or None, the slider on `owner`."""
+    relative to `source`, an `end_key` copy of the target or None, the slider on `owner`; the
+    record's hashes (the target's `signature`, the `inputs` read) and the objects baked together
+    (`members`: a character's, each one's edit makes the bake stale)."""
     obj: object
     owner: object
     source: str
@@ -157,6 +161,8 @@ class Plan:
     slider: str
     note: str
     signature: object
+    members: list = None
+    inputs: str = ""
 
 
 def measures(inp, shapes, solver=None, note=""):

@@ -129,11 +129,18 @@ class CharacterBakeJob(BakeJob):
     def inputs(self, obj, settings):
         return CharacterInputs(self._objs, settings)
 
+    @property
+    def objects(self):
+        """The character's objects (those with the target key), the slider's owner first."""
+        return list(self._objs)
+
     def finish(self):
         """Compute what is left, plan every object, then write them all; a BakeResult."""
         inp = self.inp
         frames = list(self.job.frames())
         plans = [self.plan(part.obj, part, local, inp.obj) for part, local in inp.local(frames)]
+        for plan in plans:  # each member's record names them all: one's edit makes all stale
+            plan.members = [o.name for o in self._objs]
         ends = [inp.shapes[1]] if any(p.end_key for p in plans) else []
         result = self.result(inp, frames + ends, "; ".join(
             "%s: %s" % (p.obj.name, p.note) for p in plans if p.note))

@@ -135,6 +135,28 @@ def _sample(scene, plans, frames):
     return values
 
 
+def action_name(obj):
+    """The name of obj's export action: its bake's slider, or its baked pose grid (several: all
+    of them), what the user sees in the panel."""
+    grids = {kb.name.split(GRID_BAKE_SEP)[0] for kb, _ in _grid_keys(obj)}
+    return " + ".join(sorted(playback.records(obj)) + sorted(grids)) or obj.name
+
+
+def _new_action(anim, name, piece):
+    """anim's export action named `name`: where actions have slots (Blender 4.4+) the one that
+    the character's other pieces use (a slot each), so that an exporter sees one action; before,
+    one action per piece, named after the slider and the piece."""
+    import bpy
+    if actions.slotted():
+        shared = bpy.data.actions.get(name)
+        if shared is None or not shared.get(EXPORT_PROP):
+            shared = bpy.data.actions.new(name)
+            shared[EXPORT_PROP] = True
+        anim.action = shared
+    else:
+        anim.action = bpy.data.actions.new("%s|%s" % (name, piece))
+
+
 def _write(obj, keys, frames, values, undo):
     """Replace obj's export bake by F-curves of values; each change is undone by a function
     appended to `undo` (run in reverse if a later one fails)."""
@@ -143,7 +165,7 @@ def _write(obj, keys, frames, values, undo):
     record = obj[EXPORT_PROP].to_dict() if EXPORT_PROP in obj else None
     action = record.get("action", "") if record else ""
     if anim.action is None:
-        actions.action_fcurves(anim, create=True)
+        _new_action(anim, action_name(obj), obj.name)
         action = anim.action.name
         undo.append(lambda: _drop_action(anim))
     for name in sorted(ours - {kb.name for kb, _ in keys}):  # keys no longer baked

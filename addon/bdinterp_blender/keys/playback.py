@@ -30,6 +30,22 @@ def signature(kb):
     return hashlib.sha1(read_raw(kb).tobytes()).hexdigest()[:16]
 
 
+def inputs_signature(obj, source, target):
+    """Short hash of what a bake of obj read: the source's and the target's coordinates and the
+    mesh's polygons (so that an edit of either key, or of the topology, makes the bake stale)."""
+    import numpy as np
+    from ..shapes.mesh_io import read_raw
+    key, me = obj.data.shape_keys, obj.data
+    loops = np.empty(len(me.loops), np.int32)
+    me.loops.foreach_get("vertex_index", loops)
+    starts = np.empty(len(me.polygons), np.int32)
+    me.polygons.foreach_get("loop_start", starts)
+    h = hashlib.sha1(np.int64(len(me.vertices)).tobytes() + loops.tobytes() + starts.tobytes())
+    for name in (source, target):
+        h.update(read_raw(key.key_blocks[name]).tobytes())
+    return h.hexdigest()[:16]
+
+
 def records(obj):
     """{slider: {'source', 'target', 'keys', 'end', 'signature'}} of obj's bakes (plain dicts)."""
     stored = obj.get(BAKES_PROP)
@@ -55,7 +71,7 @@ def find(obj, source, target):
     recs = records(obj)
     for slider, rec in recs.items():
         if rec.get("source") == source and rec.get("target") == target:
-            return Found(slider, rec, "" if rec.get("signature") == signature(tgt) else "stale")
+            return Found(slider, rec, "" if _current(obj, rec, tgt) else "stale")
     sig = None
     for slider, rec in recs.items():
         if rec.get("source") == source and rec.get("target") not in key.key_blocks:
@@ -63,6 +79,29 @@ def find(obj, source, target):
             if rec.get("signature") == sig:
                 return Found(slider, rec, "renamed")
     return None
+
+
+def _current(obj, rec, tgt):
+    """True if a bake's record matches obj's keys (the inputs' hash: bakes since it was kept)."""
+    if rec.get("signature") != signature(tgt):
+        return False
+    src = obj.data.shape_keys.key_blocks.get(rec.get("source", ""))
+    return (not rec.get("inputs") or src is not None
+            and rec["inputs"] == inputs_signature(obj, src.name, tgt.name))
+
+
+def stale_members(obj, found):
+    """The names of the objects baked together with obj (a character: its members, obj among them)
+    whose bake is stale or gone (their keys edited, or the object or its bake removed)."""
+    import bpy
+    out = []
+    for name in found.record.get("members") or [obj.name]:
+        member = bpy.data.objects.get(name)
+        key = member.data.shape_keys if member is not None and member.type == 'MESH' else None
+        own = find(member, found.record["source"], found.record["target"]) if key else None
+        if own is None or own.status == "stale":
+            out.append(name)
+    return out
 
 
 def baked_keys(key, source, target):
@@ -113,7 +152,7 @@ def own_animation(obj, kb, prop, owner=None):
 
 
 def install(obj, source, target, names, positions, end=None, signature_="", slider=None,
-            owner=None):
+            owner=None, inputs="", members=()):
     """Drive keys `names` (at slider `positions`) and the target (or `end`) from the custom
     property `slider` (default slider_name()) of `owner` (default obj: several objects baked as
     one character share the active object's slider); record the bake; return the slider's name."""
@@ -128,16 +167,20 @@ def install(obj, source, target, names, positions, end=None, signature_="", slid
     for name, expr in zip(names, exprs):
         _drive(key.key_blocks[name], owner, prop, expr)
     _drive(key.key_blocks[end or target], owner, prop, last)
-    record(obj, prop, source, target, names, end, signature_, owner.name)
+    record(obj, prop, source, target, names, end, signature_, owner.name, inputs, members)
     if owner != obj and prop in obj.keys():  # obj's own slider of an earlier bake: now unused
         del obj[prop]
     return prop
 
 
-def record(obj, slider, source, target, keys, end=None, signature_="", owner=""):
+def record(obj, slider, source, target, keys, end=None, signature_="", owner="", inputs="",
+           members=()):
+    """Keep a bake of obj: its slider (on `owner`), keys, the hashes of what it read, and the
+    objects baked with it (a character's members)."""
     recs = records(obj)
     recs[slider] = {"source": source, "target": target, "keys": list(keys), "end": end or "",
-                    "signature": signature_, "owner": owner or obj.name}
+                    "signature": signature_, "owner": owner or obj.name, "inputs": inputs,
+                    "members": list(members) or [obj.name]}
     obj[BAKES_PROP] = recs
 
 

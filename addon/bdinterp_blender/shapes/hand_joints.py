@@ -7,6 +7,7 @@ inside the functions (enabling the add-on should not cost its import).
 """
 
 from .mesh_io import BakeError
+from .rig import rigid_motion
 
 # A relative turn (radians) below which a hand-set joint has no pivot: it sits at the child's centre.
 TURN_LEAST = 1e-3
@@ -65,30 +66,20 @@ def _below(by_child, labels, piece, top):
 
 
 def pivot(shapes, child, parent):
-    """The point (d,) of the base shape that the child's and the parent's rigid motions carry to
+    """The point (3,) of the base shape that the child's and the parent's rigid motions carry to
     one place in the input that turns the child most against the parent (the relative motion's
     fixed point, nearest the child's centre), or the child's centre where no input turns it by
-    TURN_LEAST. shapes: (k, n, d), the base first; child, parent: (n,) masks of the pieces."""
+    TURN_LEAST. shapes: (k, n, 3), the base first; child, parent: (n,) masks of the pieces."""
     import numpy as np
     base = np.asarray(shapes[0], dtype=np.float64)
     centre = base[child].mean(axis=0)
     best, point = TURN_LEAST, centre
     for X in shapes[1:]:
-        Rc, dc = _rigid(base[child], X[child])
-        Rp, dp = _rigid(base[parent], X[parent])
+        Rc, dc = rigid_motion(base[child], X[child])
+        Rp, dp = rigid_motion(base[parent], X[parent])
         turn = np.arccos(np.clip((np.trace(Rp.T @ Rc) - 1) / 2, -1.0, 1.0))
         if turn > best:  # (Rp - Rc) x = dc - dp: the point both carry alike
             A, b = Rp - Rc, dc - dp - (Rp - Rc) @ centre
             best, point = turn, centre + np.linalg.lstsq(A, b, rcond=1e-9)[0]
     return point
 
-
-def _rigid(A, B):
-    """(R, d): the rotation and translation that best map points A onto B (Kabsch)."""
-    import numpy as np
-    a, b = A.mean(axis=0), B.mean(axis=0)
-    U, _, Vt = np.linalg.svd((A - a).T @ (B - b))
-    D = np.eye(A.shape[1])
-    D[-1, -1] = np.sign(np.linalg.det(Vt.T @ U.T))
-    R = Vt.T @ D @ U.T
-    return R, b - R @ a

@@ -147,13 +147,20 @@ def _head_in_source(arm, bone, member, rows):
     return point[None, :]
 
 
-def _rigid_fit(A, B, p):
-    """p carried by the rotation and translation that best map points A onto B (Kabsch)."""
+def rigid_motion(A, B):
+    """(R (3, 3), t (3,)): the rotation and translation that best map points A onto B (Kabsch)."""
     import numpy as np
     a, b = A.mean(axis=0), B.mean(axis=0)
     U, _, Vt = np.linalg.svd((A - a).T @ (B - b))
     D = np.diag([1.0, 1.0, np.sign(np.linalg.det(Vt.T @ U.T))])
-    return Vt.T @ D @ U.T @ (p - a) + b
+    R = Vt.T @ D @ U.T
+    return R, b - R @ a
+
+
+def _rigid_fit(A, B, p):
+    """p carried by the rotation and translation that best map points A onto B (Kabsch)."""
+    R, t = rigid_motion(A, B)
+    return R @ p + t
 
 
 def hand_set(members, labels):

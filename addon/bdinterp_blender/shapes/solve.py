@@ -103,6 +103,10 @@ class Inputs:
                                          (self.vertex_name, getattr(exc, "vertex", None)))
                  if i is not None]
         text = "%s: %s" % (", ".join(where), exc.detail) if where else str(exc)
+        if "not planar" in text:  # what to do about it, in Blender's terms
+            text += (". To fix it, flatten that key: in Edit Mode with the key active select all "
+                     "and scale to 0 across the piece (a front-view piece: S Y 0), or raise "
+                     "Planarity under Expert")
         return BakeError("%s: %s" % (self.obj_name, text))
 
     def vertex_name(self, v):

@@ -12,6 +12,7 @@ from bpy.props import EnumProperty, IntProperty
 from .. import api
 from ..keys.character import selected_meshes
 from ..shapes.settings import CURVE_NODE, from_props
+from ..keys import posing
 
 
 def settings_for(props, objs=None):
@@ -85,16 +86,36 @@ class ObjectOperator:
         return {'FINISHED'}
 
 
-class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
-    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
-    (Esc cancels; nothing is written until the last in-between is computed)"""
-    bl_idname = "bdinterp.bake"
-    bl_label = "Bake In-betweens"
+# The bake running from the UI (BDINTERP_OT_bake.modal): (done, total) for the panel, or None.
+PROGRESS = {"bake": None}
+
+
+def progress_text():
+    """'Baking k of n (Esc to cancel)' while a bake runs from the UI, else ''."""
+    running = PROGRESS["bake"]
+    return "Baking %d of %d (Esc to cancel)" % running if running else ""
+
+
+def _show_progress(context, done, total):
+    """The bake's progress in the panel and the status bar (None: the bake has ended)."""
+    PROGRESS["bake"] = None if done is None else (done, total)
+    workspace = getattr(context, "workspace", None)
+    if workspace is not None:
+        workspace.status_text_set(progress_text() or None)
+    for window in context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == 'VIEW_3D':
+                area.tag_redraw()
+
+
+class _Bake(ObjectOperator):
+    """A bake of self.job(context): all at once from scripts, or from the UI on a thread with
+    progress and Esc, after asking when the pose tears joints apart (unless confirmed)."""
+    confirmed: bpy.props.BoolProperty(name="Torn joints confirmed", options={'HIDDEN', 'SKIP_SAVE'})
 
     def run(self, context, obj):  # scripts and EXEC_DEFAULT: all at once
         wm = context.window_manager
-        objs = selected_meshes(context)
-        job = api.job_of(objs, settings_for(obj.bdi, objs))
+        job = self.job(context)
         wm.progress_begin(0, job.total)
         try:
             api.run(job, lambda done, total: wm.progress_update(done))
@@ -106,14 +127,21 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
         """From the UI: the chunks of frames on a thread (StepThread), progress per chunk, Esc
         cancels; the keys are written on the main thread at the end."""
         try:
-            objs = selected_meshes(context)
-            self._job = api.job_of(objs, settings_for(context.object.bdi, objs))
+            self._job = self.job(context)
+            torn = [] if self.confirmed else torn_of(self._job)
             self._steps = StepThread(self._job)
         except (ValueError, RuntimeError) as exc:
             self.report({'ERROR'}, str(exc))
             return {'CANCELLED'}
+        if torn:  # asked first; the dialog's OK bakes (confirmed)
+            bpy.ops.bdinterp.confirm_torn('INVOKE_DEFAULT', report=posing.describe(torn),
+                                          rebake=self.bl_idname == "bdinterp.rebake",
+                                          owner=getattr(self, "owner", ""),
+                                          slider=getattr(self, "slider", ""))
+            return {'CANCELLED'}
         wm = context.window_manager
         wm.progress_begin(0, self._job.total)
+        _show_progress(context, 0, self._job.total)
         self._timer = wm.event_timer_add(0.01, window=context.window)
         wm.modal_handler_add(self)
         return {'RUNNING_MODAL'}
@@ -122,6 +150,7 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
         wm = context.window_manager
         wm.event_timer_remove(self._timer)
         wm.progress_end()
+        _show_progress(context, None, None)
 
     def modal(self, context, event):
         if event.type == 'ESC':
@@ -134,6 +163,8 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
         try:
             done = self._steps.poll()
             context.window_manager.progress_update(self._job.job.done)
+            if PROGRESS["bake"] != (self._job.job.done, self._job.total):
+                _show_progress(context, self._job.job.done, self._job.total)
             if not done:
                 return {'RUNNING_MODAL'}
             message = self._job.finish().message
@@ -144,6 +175,48 @@ class BDINTERP_OT_bake(ObjectOperator, bpy.types.Operator):
         self._stop(context)
         self.report({'INFO'}, message)
         return {'FINISHED'}
+
+
+def torn_of(job):
+    """The joints the pose of a character's BakeJob tears apart (posing.torn_joints)."""
+    objs = getattr(job, "objects", None)  # a character's (one object has no joints to tear)
+    if not objs:
+        return []
+    return posing.torn_joints(objs, job.inp.others[0].name, job.inp.source.name)
+
+
+class BDINTERP_OT_bake(_Bake, bpy.types.Operator):
+    """Bake bounded-distortion in-betweens of the source and target keys into new shape keys
+    (Esc cancels; nothing is written until the last in-between is computed)"""
+    bl_idname = "bdinterp.bake"
+    bl_label = "Bake In-betweens"
+
+    def job(self, context):
+        """The BakeJob of the active object's settings and the selected objects."""
+        objs = selected_meshes(context)
+        return api.job_of(objs, settings_for(context.object.bdi, objs))
+
+
+class BDINTERP_OT_rebake(_Bake, bpy.types.Operator):
+    """Bake this character (or object) again as it was baked: the same objects, source, target
+    and slider, from the settings of the object that holds the slider"""
+    bl_idname = "bdinterp.rebake"
+    bl_label = "Bake Again"
+    owner: bpy.props.StringProperty(name="Slider owner")
+    slider: bpy.props.StringProperty(name="Slider")
+
+    def job(self, context):
+        from ..keys import playback
+        owner = bpy.data.objects.get(self.owner)
+        record = playback.records(owner).get(self.slider) if owner is not None else None
+        if record is None:
+            raise api.BakeError("%r has no bake of the slider %r to bake again"
+                                % (self.owner, self.slider))
+        objs = [owner] + [o for o in map(bpy.data.objects.get, record.get("members", ()))
+                          if o is not None and o != owner]
+        settings = settings_for(owner.bdi, objs).but(source=record["source"],
+                                                      target=record["target"])
+        return api.job_of(objs, settings)
 
 
 class BDINTERP_OT_bake_live(ObjectOperator, bpy.types.Operator):
@@ -183,7 +256,7 @@ class BDINTERP_OT_blend(ObjectOperator, bpy.types.Operator):
 class BDINTERP_OT_pose_add(ObjectOperator, bpy.types.Operator):
     """Add the active shape key to the poses to blend"""
     bl_idname = "bdinterp.pose_add"
-    bl_label = "Add Pose"
+    bl_label = "Add Pose to Blend"
 
     def run(self, context, obj):
         kb = obj.active_shape_key
@@ -289,7 +362,7 @@ def export_objects(context):
     return [o for o in selected_meshes(context) if o == context.object or o.get(BAKES_PROP)]
 
 
-CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
+CLASSES = (BDINTERP_OT_bake, BDINTERP_OT_rebake, BDINTERP_OT_bake_live, BDINTERP_OT_clear, BDINTERP_OT_blend,
            BDINTERP_OT_pose_add, BDINTERP_OT_pose_remove, BDINTERP_OT_anchor_from_selection, BDINTERP_OT_distortion,
            BDINTERP_OT_easing_curve_new, BDINTERP_OT_bake_export, BDINTERP_OT_remove_export)
 

@@ -66,18 +66,23 @@ class BDINTERP_PT_main(_Panel, bpy.types.Panel):
             draw_message(layout, CORE_ERROR, width=wrap_width(context))
             return
         if obj is None or obj.type != 'MESH':
-            layout.label(text="Select a planar mesh with shape keys", icon='INFO')
+            draw_message(layout, "Select a flat mesh with shape keys", icon='INFO',
+                         width=wrap_width(context))
             return
         key = obj.data.shape_keys
         if key is None or len(key.key_blocks) < 2:
-            layout.label(text="Add at least two shape keys", icon='INFO')
+            draw_message(layout, "Add a pose: a key on every selected piece", icon='INFO',
+                         width=wrap_width(context))
+            layout.operator("bdinterp.add_pose", icon='ADD')
             return
         props = obj.bdi
         col = layout.column(align=True)
         col.prop_search(props, "source", key, "key_blocks", text="Source")
         if not props.source:
             col.label(text="Empty: %s (reference)" % key.reference_key.name, icon='BLANK1')
-        col.prop_search(props, "target", key, "key_blocks", text="Target")
+        row = col.row(align=True)
+        row.prop_search(props, "target", key, "key_blocks", text="Target")
+        row.operator("bdinterp.add_pose", text="", icon='ADD')
         if props.live:
             draw_message(layout, "Live: %s %s" % (obj.name, LIVE_WARNING), icon='INFO',
                          width=wrap_width(context))
@@ -118,10 +123,15 @@ class BDINTERP_PT_inbetweens(_Panel, bpy.types.Panel):
         if together > 1:
             draw_message(layout, "Bakes %d selected objects as one character (slider here)"
                          % together, icon='INFO', width=wrap_width(context))
-        row = layout.row(align=True)
-        row.scale_y = 1.4
-        row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
-        row.operator("bdinterp.clear", text="", icon='TRASH')
+        from .operators import progress_text
+        running = progress_text()
+        if running:  # the bake runs on a thread: say so where the button was
+            draw_message(layout, running, icon='TIME', width=wrap_width(context))
+        else:
+            row = layout.row(align=True)
+            row.scale_y = 1.4
+            row.operator("bdinterp.bake", icon='SHAPEKEY_DATA')
+            row.operator("bdinterp.clear", text="", icon='TRASH')
         draw_export(layout, obj)
         draw_bake(layout, context, obj)
 
@@ -143,8 +153,8 @@ def character_size(context, obj):
 
 
 def draw_bake(layout, context, obj):
-    """The playback slider of the current pair's bake (found also after a rename), its status,
-    and the result box."""
+    """The playback slider of the current pair's bake (found also after a rename), its status
+    (stale when any object baked with this one changed since: Bake Again), and the result box."""
     width = wrap_width(context)
     found = _bake_of(obj)
     owner = found.record.get("owner", obj.name) if found is not None else obj.name
@@ -156,15 +166,30 @@ def draw_bake(layout, context, obj):
         if found.status == "renamed":
             draw_message(layout, "Bake of the renamed target (slider %r); bake again to rename "
                          "its keys" % found.slider, icon='INFO', width=width)
-        elif found.status == "stale":
-            draw_message(layout, "Stale: %r was edited after this bake; bake again"
-                         % obj.bdi.target, icon='ERROR', width=width)
-    draw_result(layout, obj.bdi.result, width)
+    if found is not None and found.status != "renamed":
+        draw_stale(layout, obj, found, owner, width)
+    missing = [] if found is None else [name for name in found.keys if name not in
+                                        obj.data.shape_keys.key_blocks]
+    draw_result(layout, obj.bdi.result, width, missing)
 
 
-def draw_result(layout, text, width):
-    """The result box of the last bake: keys written, max K against the inputs', folded
-    polygons, time, and any note."""
+def draw_stale(layout, obj, found, owner, width):
+    """'Stale' naming the objects whose keys changed since the bake, with Bake Again."""
+    from ..keys.playback import stale_members
+    stale = stale_members(obj, found)
+    if not stale:
+        return
+    names = ", ".join(repr(name) for name in stale[:3]) + (" and %d more" % (len(stale) - 3)
+                                                            if len(stale) > 3 else "")
+    draw_message(layout, "Stale: the keys of %s changed after this bake" % names, icon='ERROR',
+                 width=width)
+    op = layout.operator("bdinterp.rebake", icon='FILE_REFRESH')
+    op.owner, op.slider = owner, found.slider
+
+
+def draw_result(layout, text, width, missing=()):
+    """The result box of the last bake: keys written (and those deleted since), max K against
+    the inputs', folded polygons, time, and any note."""
     try:
         r = json.loads(text) if text else None
     except ValueError:
@@ -176,6 +201,10 @@ def draw_result(layout, text, width):
     col.label(text="Last bake", icon='INFO')
     col.label(text="%s -> %s" % (r["source"], r["target"]))
     col.label(text="Keys written: %d" % r["keys"])
+    if missing:
+        draw_message(col, "%d of them deleted since (%s): bake again" % (
+            len(missing), ", ".join(missing[:2]) + (", ..." if len(missing) > 2 else "")),
+            width=width - 2)
     ok = r["max_distortion"] <= r["input_distortion"] * (1 + 1e-6)
     col.label(text="Max K %.4g (inputs %.4g)" % (r["max_distortion"], r["input_distortion"]),
               icon='CHECKMARK' if ok else 'ERROR')

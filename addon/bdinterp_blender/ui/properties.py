@@ -89,7 +89,7 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                                          "the mesh size")
     # numbered so that a file saved with the on/off switch reads on as AUTO, off as OFF
     joints: EnumProperty(name="Joints", default='AUTO', update=_live_changed, items=[
-        ('AUTO', "Auto", "The armature's bones where every piece has a bone, else pins found "
+        ('AUTO', "Automatic", "The armature's bones where every piece has a bone, else pins found "
                          "from the keys", 1),
         ('BONES', "Bones", "Each piece hangs from the piece of its bone's parent, pinned at the "
                            "bone's head (Armature modifier's vertex groups, or a parent bone)", 3),

@@ -75,6 +75,17 @@ def selected_vertices(objs):
     return np.concatenate(out)
 
 
+def moving_faces(path):
+    """The faces of path's mesh that the motion moves (a vertex of theirs is elsewhere in the
+    target than in the source): the ghosts tint those only, not the pieces that stand still."""
+    import numpy as np
+    source, target = (np.asarray(s, dtype=np.float64) for s in path.inp.shapes[:2])
+    size = max(np.ptp(source, axis=0).max(), 1e-12)
+    moves = np.linalg.norm(target - source, axis=1) > 1e-6 * size
+    faces = np.asarray(path.inp.faces)
+    return faces[moves[faces].any(axis=1)]
+
+
 def build(objs, view, frame=None, path=None):
     """The Ghosts of `objs` (drawn_objects) with the settings `view` (Scene.bdi_view) at the
     scene's `frame`; `path`: the motion_trails.Path of the same objects and settings, if one was
@@ -82,7 +93,9 @@ def build(objs, view, frame=None, path=None):
     import numpy as np
     if path is None:
         path = motion_trails.Path(objs, with_solver=view.trails or view.ghost_source != 'BAKED')
-    out = Ghosts(faces=path.inp.faces, edges=outline(path.inp.faces), path=path)
+    faces = moving_faces(path)
+    out = Ghosts(faces=faces, edges=outline(faces) if len(faces) else np.empty((0, 2), int),
+                 path=path)
     baked, names = path.baked_solved()
     if path.found is not None:
         out.slider = (path.found.record.get("owner") or objs[0].name, path.found.slider)

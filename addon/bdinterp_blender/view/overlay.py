@@ -33,7 +33,7 @@ def batches(ghosts):
     faces = np.ascontiguousarray(ghosts.faces, dtype=np.int32)
     edges = np.ascontiguousarray(ghosts.edges, dtype=np.int32)
     out = {"fills": [], "outlines": [], "trails": None, "ticks": None, "chords": None}
-    for shape in ghosts.shapes:
+    for shape in ghosts.shapes if len(faces) else ():  # nothing moves: no ghost to tint
         pos = np.ascontiguousarray(shape, dtype=np.float32)
         out["fills"].append(batch_for_shader(sh, 'TRIS', {"pos": pos}, indices=faces))
         out["outlines"].append(batch_for_shader(sh, 'LINES', {"pos": pos}, indices=edges))
