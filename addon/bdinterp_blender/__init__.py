@@ -13,11 +13,12 @@ parameters: grids of poses followed live, Bake Grid) -> api (the scripting facad
 
 # The modules in import order (lowest first): the reload idiom below and the layering test use it.
 MODULES = ("core", "names", "actions", "timing", "changes",
-           "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.settings", "shapes.solve",
+           "shapes.pivots", "shapes.mesh_io", "shapes.rig", "shapes.hand_joints", "shapes.settings",
+           "shapes.solve",
            "files.painting_files", "files.sprite_mesh", "files.layered_import",
            "keys.playback", "keys.baking", "keys.export", "keys.character", "keys.posing", "keys.live",
            "view.overlay", "view.distortion", "view.motion_trails", "view.ghosts", "view.onion",
-           "view.locate", "view.drawing_bind",
+           "view.locate", "view.drawing_bind", "view.joint_view",
            "params.live", "params.setup", "params.bake_grid",
            "strokes.drawing", "strokes.ops", "api", "ui.properties", "ui.operators",
            "ui.pose_operators", "ui.panels",
@@ -84,14 +85,14 @@ def register():
         _modules = [ui.degraded]
     else:
         from .ui import properties, operators, pose_operators
-        from .view import onion, drawing_bind
+        from .view import onion, drawing_bind, joint_view
         from .keys import live as live_mod
         from .files import sprite_mesh, layered_import
         from .strokes import ops as strokes_ops
         from .params import live as grid_live
         from .ui import pose_grids
-        _modules = [properties, onion, drawing_bind, operators, pose_operators, ui, live_mod,
-                    sprite_mesh, layered_import,
+        _modules = [properties, onion, joint_view, drawing_bind, operators, pose_operators, ui,
+                    live_mod, sprite_mesh, layered_import,
                     strokes_ops, grid_live, pose_grids]
     for mod in _modules:
         mod.register()

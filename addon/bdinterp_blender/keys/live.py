@@ -90,7 +90,9 @@ def character_objects(obj, target, others=None):
 
 
 def _signature(objs):
-    return tuple((o.name, tuple(tuple(row) for row in o.matrix_world)) for o in objs)
+    """The objects' names, matrices and joint parents set by hand: a change rebuilds the State."""
+    return tuple((o.name, tuple(tuple(row) for row in o.matrix_world),
+                  getattr(o.bdi.joint_parent, "name", "")) for o in objs)
 
 
 def prepare_character(objs, settings):
@@ -127,7 +129,7 @@ def remove_keys(objs):
 
 def _objects(obj, state):
     """The objects whose keys `state` reads and writes (obj, or a character's)."""
-    return [bpy.data.objects.get(name) for name, _ in state.members] or [obj]
+    return [bpy.data.objects.get(name) for name, *_ in state.members] or [obj]
 
 
 def _values(props):

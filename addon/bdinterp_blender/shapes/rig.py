@@ -161,3 +161,30 @@ def _rigid_fit(A, B, p):
     """p carried by the rotation and translation that best map points A onto B (Kabsch)."""
     R, t = rigid_motion(A, B)
     return R @ p + t
+
+
+def hand_set(members, labels):
+    """[(child vertex, parent vertex, (child's name, parent's name))] of the members whose joint
+    parent is set by hand (Object.bdi.joint_parent): each object's largest piece under the
+    parent object's largest piece. BakeError for a parent that is not one of the members."""
+    names = {m.obj.name: m for m in members}
+    out = []
+    for m in members:
+        parent = getattr(getattr(m.obj, "bdi", None), "joint_parent", None)
+        if parent is None:
+            continue
+        if parent.name not in names:
+            raise BakeError("%s: its joint parent %r is not part of the character (%s): select it "
+                            "too, or set the parent to Automatic"
+                            % (m.obj.name, parent.name, ", ".join(sorted(names))))
+        out.append((_largest_piece(m, labels), _largest_piece(names[parent.name], labels),
+                    (repr(m.obj.name), repr(parent.name))))
+    return out
+
+
+def _largest_piece(member, labels):
+    """The solved mesh's first vertex of the member's piece with the most vertices."""
+    import numpy as np
+    local = np.asarray(labels[member.offset:member.offset + len(member.source)])
+    pieces, first, counts = np.unique(local, return_index=True, return_counts=True)
+    return int(member.offset + first[np.argmax(counts)])

@@ -8,7 +8,7 @@ polygon indices).
 
 import time
 
-from . import mesh_io, rig
+from . import hand_joints, mesh_io, rig
 from .mesh_io import BakeError
 from ..names import FRAMES_PER_WORKER, STEP_SECONDS
 
@@ -66,8 +66,19 @@ class Inputs:
         self.joints, self.joint_source = self.find_joints(members)
 
     def find_joints(self, members):
-        """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints)."""
-        return rig.core_joints(self.joint_mode, members, self.layers.labels)
+        """(bdinterp's joints argument, where they came from) of self.joint_mode (rig.core_joints),
+        with the parents set by hand (rig.hand_set) put into that tree (hand_joints.apply): the
+        tree the core finds from the keys is asked of it first. Off: no joints, none by hand."""
+        labels = self.layers.labels
+        joints, source = rig.core_joints(self.joint_mode, members, labels)
+        hand = rig.hand_set(members, labels) if self.joint_mode != "off" else []
+        if not hand:
+            return joints, source
+        links = joints if isinstance(joints, list) else []
+        if joints is True:
+            links = hand_joints.found_links(self.solver_of(True))
+        links = hand_joints.apply(links, hand, labels, self.shapes)
+        return links, "; ".join(filter(None, [source, "%d set by hand" % len(hand)]))
 
     def reference_shape(self):
         """(n, 3) the object's reference key as Blender shows it, in its local coordinates."""
@@ -115,10 +126,13 @@ class Inputs:
     def interpolator(self, threads=0):
         """A precomputed bdinterp.Interpolator of these shapes (base: the source; threads: its
         workers, 0 = one per usable core)."""
+        return self.solver_of(self.joints, threads)
+
+    def solver_of(self, joints, threads=0):
+        """The Interpolator of these shapes with bdinterp's `joints` argument, errors explained."""
         try:
             return core().Interpolator(self.shapes, self.faces, anchor=self.anchor, base=0,
-                                       joints=self.joints, layers=self.layers,
-                                       threads=threads)
+                                       joints=joints, layers=self.layers, threads=threads)
         except ValueError as exc:
             raise self.explain(exc) from exc
 

@@ -231,6 +231,10 @@ class BDINTERP_PT_expert(_Panel, bpy.types.Panel):
         split.prop(props, "method", text="")
         layout.prop(props, "tolerance", text="Planarity")
         layout.prop(props, "joints", text="Joints")
+        from ..view import joint_view
+        error = joint_view.draw_settings(layout, context)
+        if error:
+            draw_message(layout, error, width=wrap_width(context))
 
 
 class BDINTERP_PT_poses(_Panel, bpy.types.Panel):

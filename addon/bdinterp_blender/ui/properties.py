@@ -37,6 +37,14 @@ def _live_toggled(self, context):
     live.on_toggle(self.id_data)
 
 
+def _parent_changed(self, context):
+    """A joint parent set by hand: the joint tree's overlay and the live characters it is in."""
+    from ..view import joint_view, onion
+    joint_view.refresh()
+    onion.invalidate()
+    _live_changed(self, context)
+
+
 class BDI_PoseItem(bpy.types.PropertyGroup):
     key: StringProperty(name="Pose", description="Shape key used as a pose", update=_live_changed)
     weight: FloatProperty(name="Weight", min=0.0, max=1.0, default=0.0, update=_live_changed,
@@ -109,6 +117,11 @@ class BDI_ObjectProps(bpy.types.PropertyGroup):
                                    description="The object whose vertex anchors a character of "
                                                "several objects (empty: this one)")
     distortion_visible: BoolProperty(name="Distortion Shown", default=False)
+    joint_parent: PointerProperty(type=bpy.types.Object, name="Joint Parent", update=_parent_changed,
+                                  poll=lambda self, obj: obj.type == 'MESH' and obj != self.id_data,
+                                  description="The object of the character this piece hangs from "
+                                              "in the joint tree (empty: Automatic, as the joints "
+                                              "are found or the bones say)")
 
 
 CLASSES = (BDI_PoseItem, BDI_ObjectItem, BDI_ObjectProps)

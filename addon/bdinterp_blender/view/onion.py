@@ -85,10 +85,12 @@ def drawn_objects(context):
 
 def solve_key(objs):
     """What a Path depends on, cheap to compare: the objects, their settings and topology (vertex,
-    face and loop counts), the epoch (bumped when their keys' data change) and, for a character
+    face and loop counts), the epoch (bumped when their keys' data change), the joint parents set
+    by hand and, for a character
     (solved in world coordinates), the objects' transforms.  One object's transform is not in
     it: its ghosts are drawn with its matrix."""
     return (tuple(o.name for o in objs), motion_trails.settings_of(objs[0].bdi), _epoch[0],
+            tuple(getattr(o.bdi.joint_parent, "name", "") for o in objs),
             tuple((len(o.data.vertices), len(o.data.polygons), len(o.data.loops)) for o in objs),
             tuple(tuple(v for row in o.matrix_world for v in row) for o in objs) if len(objs) > 1 else ())
 
@@ -255,23 +257,34 @@ HANDLERS = ((bpy.app.handlers.undo_post, forget), (bpy.app.handlers.redo_post, f
             (bpy.app.handlers.load_post, on_load))
 
 
+def hook(handles, draw, handlers, changed):
+    """Install a viewport overlay: its draw callback (its handle appended to `handles`), its
+    (app handler list, function) pairs and its changes.py subscriber."""
+    handles.append(bpy.types.SpaceView3D.draw_handler_add(draw, (), 'WINDOW', 'POST_VIEW'))
+    for app_handlers, fn in handlers:
+        app_handlers.append(fn)
+    changes.subscribe(2, changed)
+
+
+def unhook(handles, handlers, changed):
+    """Remove what hook() installed."""
+    changes.unsubscribe(changed)
+    for handle in handles:
+        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
+    handles.clear()
+    for app_handlers, fn in handlers:
+        if fn in app_handlers:
+            app_handlers.remove(fn)
+
+
 def register():
     bpy.utils.register_class(BDI_ViewProps)
     bpy.types.Scene.bdi_view = bpy.props.PointerProperty(type=BDI_ViewProps)
-    _handle.append(bpy.types.SpaceView3D.draw_handler_add(draw_callback, (), 'WINDOW', 'POST_VIEW'))
-    for handlers, fn in HANDLERS:
-        handlers.append(fn)
-    changes.subscribe(2, on_changes)
+    hook(_handle, draw_callback, HANDLERS, on_changes)
 
 
 def unregister():
-    changes.unsubscribe(on_changes)
-    for handle in _handle:
-        bpy.types.SpaceView3D.draw_handler_remove(handle, 'WINDOW')
-    _handle.clear()
-    for handlers, fn in HANDLERS:
-        if fn in handlers:
-            handlers.remove(fn)
+    unhook(_handle, HANDLERS, on_changes)
     on_load()
     del bpy.types.Scene.bdi_view
     bpy.utils.unregister_class(BDI_ViewProps)

@@ -32,19 +32,28 @@ constexpr double kInside = 1e-9;
 // about one face per cell over the piece's bounding box.
 class TriangleGrid {
  public:
+  // Faces per cell, as if each face lay in one: a face of a regular mesh spans several cells of
+  // a finer grid, each of which then lists it.
+  static constexpr double kFacesPerCell = 4;
   TriangleGrid(const Positions& X, const JointPiece& piece) : X_(X), piece_(piece) {
     const Faces& F = *piece.faces;
     lo_ = hi_ = X.row((*piece.vertices)[0]).transpose();
     for (int v : *piece.vertices) lo_ = lo_.cwiseMin(X.row(v).transpose()), hi_ = hi_.cwiseMax(X.row(v).transpose());
-    n_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(F.rows()))));
+    n_ = std::max(1, static_cast<int>(std::sqrt(static_cast<double>(F.rows()) / kFacesPerCell)));
+    // Each vertex's cell, once: cell() is monotone in each coordinate, so the cells of a face's
+    // bounding box are the least and the largest of its corners' cells.
+    const std::vector<int>& vs = *piece.vertices;
+    std::vector<std::pair<int, int>> at_vertex(vs.size());
+    for (size_t v = 0; v < vs.size(); ++v) at_vertex[v] = cell(X.row(vs[v]).transpose());
     // The faces of each cell in one array (counted, then filled): one allocation per piece.
     std::vector<std::array<int, 4>> span(static_cast<size_t>(F.rows()));  // each face's cells
     start_.assign(static_cast<size_t>(n_) * n_ + 1, 0);
     for (int f = 0; f < F.rows(); ++f) {
-      Eigen::Vector2d a = corner(f, 0), b = a;
-      for (int c = 1; c < 3; ++c) a = a.cwiseMin(corner(f, c)), b = b.cwiseMax(corner(f, c));
-      const auto [i0, j0] = cell(a);
-      const auto [i1, j1] = cell(b);
+      const auto& p = at_vertex[static_cast<size_t>(F(f, 0))];
+      const auto& q = at_vertex[static_cast<size_t>(F(f, 1))];
+      const auto& r = at_vertex[static_cast<size_t>(F(f, 2))];
+      const int i0 = std::min({p.first, q.first, r.first}), i1 = std::max({p.first, q.first, r.first});
+      const int j0 = std::min({p.second, q.second, r.second}), j1 = std::max({p.second, q.second, r.second});
       span[static_cast<size_t>(f)] = {i0, j0, i1, j1};
       for (int j = j0; j <= j1; ++j)
         for (int i = i0; i <= i1; ++i) ++start_[static_cast<size_t>(j) * n_ + i + 1];
