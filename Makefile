@@ -116,7 +116,7 @@ bench: setup      ## speed table (docs/BENCHMARKS.md); BENCH_ARGS="--sizes=5000 
 	build-bench/bdinterp_bench $(or $(BENCH_ARGS),$(BENCH_SIZES) --reps=3)
 
 clean:
-	rm -rf $(BUILD) build-bench build-bench-source dist out
+	rm -rf $(BUILD) build-pip build-bench build-bench-source dist out
 
 # --- other platforms (docs/PLATFORMS.md) ----------------------------------------------------------
 # CHOLMOD from Debian 13's SuiteSparse 7 source (one tree for all: the one `make portable` fetches),

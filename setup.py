@@ -52,7 +52,9 @@ class CMakeBuild(build_ext):
             for lib in [so] + sorted(so.parent.glob("lib*.so*")):  # + bundled METIS ($ORIGIN)
                 shutil.copy(lib, out_dir)
             return
-        build_dir = Path(self.build_temp).resolve() / "cmake"
+        # Beside `make build`'s folder (same depth): with ccache, the sources it compiled there are
+        # not compiled again here (the compiler sees the same relative paths).
+        build_dir = ROOT / "build-pip"
         build_dir.mkdir(parents=True, exist_ok=True)
         subprocess.run([
             "cmake", str(ROOT), "-DCMAKE_BUILD_TYPE=Release", "-DBDINTERP_TESTS=OFF",

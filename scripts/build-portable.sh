@@ -60,10 +60,19 @@ script="set -e
 $(build_one 311 "/deps/usr/include/py311/python3.11;/deps/usr/include/py311" /deps/usr/include)
 $(build_one 313 "/deps/usr/include/python3.13;/deps/usr/include" /deps/usr/include)
 $(build_one 314 "/deps5/usr/include/python3.14;/deps5/usr/include" /deps5/usr/include)"
+# ccache where the chroot has it (make-chroot.sh installs it), its cache kept on this machine outside
+# the clone (BDI_CCACHE_DIR): the chroot's paths are the same in every clone, so a later run
+# compiles only what changed. Without it, the host's launcher (the Makefile's) is dropped.
+launch="-u CMAKE_C_COMPILER_LAUNCHER -u CMAKE_CXX_COMPILER_LAUNCHER" cache=true
+if [ -x "$BUILDER/usr/bin/ccache" ]; then
+  mkdir -p "${BDI_CCACHE_DIR:-/var/cache/bdinterp}/bullseye" "$BUILDER/ccache"
+  launch="CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache CCACHE_DIR=/ccache"
+  cache="mount --bind '${BDI_CCACHE_DIR:-/var/cache/bdinterp}/bullseye' '$BUILDER/ccache'"
+fi
 unshare -m sh -c "mount --bind '$ROOT' '$BUILDER/src' && mount -o bind,ro '$DEPS/root' '$BUILDER/deps' &&
   mount -o bind,ro '$DEPS5/root' '$BUILDER/deps5' && mount -o bind,ro '$SUITESPARSE/src' '$BUILDER/suitesparse' &&
-  mount --bind '$OUT' '$BUILDER/out' &&
-  chroot '$BUILDER' env -u CMAKE_C_COMPILER_LAUNCHER -u CMAKE_CXX_COMPILER_LAUNCHER sh -c '$script'" \
+  mount --bind '$OUT' '$BUILDER/out' && $cache &&
+  chroot '$BUILDER' env $launch sh -c '$script'" \
   || { tail -30 "$OUT"/cmake-py3*.log >&2; exit 1; }
 
 # Everything outside the manylinux set, bundled next to each module under private names.

@@ -14,7 +14,7 @@ mirror=()
 [ -n "${DEBIAN_MIRROR:-}" ] && mirror=("$DEBIAN_MIRROR")
 case $kind in
   build)   suite=bullseye
-           pkgs=g++,make,cmake,libopenblas-dev,libeigen3-dev,gfortran,patchelf,libcgal-dev ;;
+           pkgs=g++,make,cmake,ccache,libopenblas-dev,libeigen3-dev,gfortran,patchelf,libcgal-dev ;;
   blender) suite=trixie
            pkgs=blender,python3-numpy,libegl1,libegl-mesa0 ;;
   blender5) suite=sid  # + what Blender 5.2 imports at start (cattrs, requests) and renders with

@@ -8,12 +8,15 @@ ROOT=$(cd "$(dirname "$0")/.." && pwd)
 CHROOT=${BDI_CHROOTS:-$ROOT/build/portable/chroots}/sid
 start=$(date +%s)
 "$ROOT/scripts/make-chroot.sh" blender5 "$CHROOT"
-"$ROOT/scripts/chroot-apt.sh" "$CHROOT" install g++ make cmake pkg-config libsuitesparse-dev \
+"$ROOT/scripts/chroot-apt.sh" "$CHROOT" install g++ make cmake ccache pkg-config libsuitesparse-dev \
   libeigen3-dev libopenblas0-pthread pybind11-dev python3-dev python3-pytest python3-scipy \
-  python3-matplotlib \
+  python3-matplotlib python3-hypothesis \
   libgtest-dev >"$CHROOT.toolchain.log" 2>&1 || { tail -20 "$CHROOT.toolchain.log" >&2; exit 1; }
 echo "test-toolchain: packages in $(( $(date +%s) - start )) s"
-mkdir -p "$CHROOT/src" "$CHROOT/dev/shm"
+# ccache's cache kept on this machine outside the clone (BDI_CCACHE_DIR), as for the portable build:
+# /src and /bdi-build are the same in every clone, so a later run compiles only what changed.
+CACHE=${BDI_CCACHE_DIR:-/var/cache/bdinterp}/sid
+mkdir -p "$CHROOT/src" "$CHROOT/dev/shm" "$CHROOT/ccache" "$CACHE"
 # The in-tree package is copied next to the build so that its 3.14 module goes there, not into
 # the checkout; the checkout is mounted read-only.
 cat >"$CHROOT/bdi-toolchain.sh" <<'EOS'
@@ -35,8 +38,10 @@ EOS
 args=$(printf " %q" "$@")
 unshare -m --propagation private sh -c "
   mount -o bind,ro '$ROOT' '$CHROOT/src' && mount -t proc proc '$CHROOT/proc' &&
-  mount -t tmpfs tmpfs '$CHROOT/tmp' && mount -t tmpfs tmpfs '$CHROOT/dev/shm'; rc=0
-  chroot '$CHROOT' env -i HOME=/tmp PATH=/usr/bin:/bin LANG=C.UTF-8 JOBS=${JOBS:-2} \
+  mount -t tmpfs tmpfs '$CHROOT/tmp' && mount -t tmpfs tmpfs '$CHROOT/dev/shm' &&
+  mount --bind '$CACHE' '$CHROOT/ccache'; rc=0
+  chroot '$CHROOT' env -i HOME=/tmp PATH=/usr/bin:/bin LANG=C.UTF-8 JOBS=${JOBS:-2} CCACHE_DIR=/ccache \
+    CMAKE_C_COMPILER_LAUNCHER=ccache CMAKE_CXX_COMPILER_LAUNCHER=ccache \
     sh /bdi-toolchain.sh $args || rc=\$?
   umount '$CHROOT/proc'; exit \$rc"
 echo "test-toolchain: passed in $(( $(date +%s) - start )) s"
