@@ -10,7 +10,7 @@ from biped import BONES, PIECES, POSES, bone_motion, pins, posed, rigid_fit_erro
 from cutout_meshes import Character, rectangle, turn
 
 TS = (0.25, 0.5, 0.75)
-# The issue's bounds, relative to the size: every piece within 0.5 %; in the fall (the root travels
+# Bounds relative to the size: every piece within 0.5 %; in the fall (the root travels
 # and turns by 90 degrees: two keys do not fix its path) after the best rigid fit, 1.5 % without.
 LIMIT, FALL_RAW = 5e-3, 1.5e-2
 
@@ -111,7 +111,7 @@ def test_still_pieces_stay_exactly_still(biped):
 def arm(shoulder_y):
     """Upper arm, forearm and hand, joined to nothing that stays still; the shoulder (0, shoulder_y)
     lies at the upper arm's top end (3.0: on its outline; 3.05: just outside it). The second pose
-    of the issue's sample: -60, 100 and -30 degrees."""
+    of a cut-out add-on's sample character: -60, 100 and -30 degrees."""
     pieces = [rectangle(-0.3, 1.0, 0.6, 2.0, 0.1, 1), rectangle(-0.3, -1.0, 0.6, 2.1, 0.1, 2),
               rectangle(-0.35, -1.8, 0.7, 0.9, 0.1, 3)]
     q = [np.array([0.0, shoulder_y]), np.array([0.0, 1.05]), np.array([0.0, -0.9])]
