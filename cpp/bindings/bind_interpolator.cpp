@@ -134,6 +134,9 @@ void bind_interpolator(py::module_& m) {
           "lowest vertex), reason ('anchor', 'still', 'travels', 'turns', 'given' or 'path'), point (for "
           "'turns': the fixed point of the piece's own motion) and rank (for 'turns': the fixed point's "
           "distance outside the piece over the pins' reach x its size, plus its largest turn / pi).")
+      .def_property_readonly("joints_seconds", &Interpolator::joints_seconds,
+                             "Wall-clock seconds the joints took when it was made (the tree found or the "
+                             "given links checked, each joint's sites and offsets); 0 without joints.")
       .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
            "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),

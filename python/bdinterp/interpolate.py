@@ -243,6 +243,13 @@ class Interpolator:
         Empty with joints=False."""
         return self._core.joint_roots()
 
+    @property
+    def joints_seconds(self):
+        """Wall-clock seconds the joints took when this Interpolator was made (the tree found or the
+        given links checked, each joint's sites and offsets); 0 with joints=False. For benchmarks
+        (scripts/bench_joint_tree.py)."""
+        return self._core.joints_seconds
+
     def folded_faces(self, shape):
         """(j,) indices of the faces of input `shape` that are folded (reversed) relative to the
         base shape, ascending; empty for the base. An input folded on more than half of a piece's

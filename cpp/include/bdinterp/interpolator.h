@@ -167,6 +167,9 @@ class Interpolator {
     double rank;
   };
   std::vector<RootInfo> joint_roots() const;
+  // Wall-clock seconds the joints took when the Interpolator was made (the tree found or the
+  // given links checked, each joint's sites and offsets); 0 when joints are off. For benchmarks.
+  double joints_seconds() const;
 
  private:
   // The shapes moved and scaled to unit size (sets offset_, scale_), validated.

@@ -96,7 +96,7 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
     const auto& vs = p->piece.vertices;
     if (anchor.vertex >= 0 && std::find(vs.begin(), vs.end(), anchor.vertex) != vs.end())
       anchored = static_cast<int>(parts.size());
-    parts.push_back({&vs, &p->piece.mesh.faces(), &p->frames});
+    parts.push_back({&vs, &p->piece.mesh, &p->anchor.base(), &p->frames});
   }
   return std::make_unique<const Joints>(unit, options.base, parts, anchored, given);
 }
@@ -153,11 +153,12 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     pieces = split_into_pieces(*cut);  // fold-free in every input: their orientation is checked
   }
   plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base);
+  // The joints read the pieces' meshes and base shapes: before the solvers' workspaces evict them.
+  std::unique_ptr<const Joints> joints =
+      join_pieces(plans_, unit, anchor, options, given_joints(plans_, num_vertices_, options, offset_, scale_));
   workers_.resize(1);
   for (const auto& plan : plans_) workers_[0].push_back(PieceSolver::make(*plan));
-  passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds),
-                                                        join_pieces(plans_, unit, anchor, options,
-                                                                    given_joints(plans_, num_vertices_, options, offset_, scale_)),
+  passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds), std::move(joints),
                                                         offset_, scale_, options);
 }
 
@@ -185,6 +186,11 @@ std::vector<Interpolator::RootInfo> Interpolator::joint_roots() const {
     out.push_back({*std::min_element(plans_[r.piece]->piece.vertices.begin(), plans_[r.piece]->piece.vertices.end()),
                    r.reason, (r.point.transpose() * scale_ + offset_).transpose(), r.fit});
   return out;
+}
+
+double Interpolator::joints_seconds() const {
+  const Joints* joints = passes_->joints();
+  return joints ? joints->seconds() : 0.0;
 }
 
 FrameStats Interpolator::solve_frame(const Eigen::VectorXd& w, Eigen::Ref<Positions> out, int worker) {

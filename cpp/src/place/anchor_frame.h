@@ -29,6 +29,8 @@ class AnchorFrame {
   void set_region(const Eigen::VectorXd& face_weight);
   // Anchor of input shape X: the angle is on the branch where the bulk turns least.
   Frame2 measure_input(const Positions& X) const;
+  // The base shape it was made with (#V by 2, the piece's local order).
+  const Positions& base() const { return base_; }
   // Rigidly moves X so that its anchor becomes `target` (its own branch is irrelevant here).
   void place(Positions& X, const Frame2& target) const;
   // Per-face rotation of X relative to the base (closest rotation of the affine map), unwrapped

@@ -52,7 +52,7 @@ bool pin_guess(const std::vector<RigidMotion>& rel, Eigen::Vector2d& q) {
 }
 
 // The affine map of face f of a piece from the base shape B to X: x -> J x + c.
-void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
+void face_map(const PieceShape& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
               Eigen::Vector2d& c) {
   const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
   J = edge_matrix(X, a, b, d) * edge_matrix(B, a, b, d).inverse();
@@ -61,13 +61,15 @@ void face_map(const TriangleGrid& piece, int f, const Positions& B, const Positi
 
 // Refines q to the point that the parent's and the child's triangles carry to the same place in
 // every input (least squares over the inputs, per pair of triangles, each piece's triangle holding
-// q or, outside it, the one whose affine extension is nearest; until they stay the same).
-void refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
-                const TriangleGrid& child, Eigen::Vector2d& q) {
+// q or, outside it, the one whose affine extension is nearest; until they stay the same). False,
+// and no further step, once q lies farther than `leave` from either piece's bounding box.
+bool refine_pin(const std::vector<Positions>& shapes, int base, const PieceShape& parent, const PieceShape& child,
+                double leave, Eigen::Vector2d& q) {
   const Positions& B = shapes[static_cast<size_t>(base)];
   int fp = -1, fc = -1, last_p = -2, last_c = -2;
   Eigen::Vector3d bary;
   for (int iteration = 0; iteration < 10 && (fp != last_p || fc != last_c); ++iteration) {
+    if (std::max(parent.box_distance(q), child.box_distance(q)) > leave) return false;
     last_p = fp, last_c = fc;
     parent.locate_nearest(q, fp, bary);
     child.locate_nearest(q, fc, bary);
@@ -84,22 +86,41 @@ void refine_pin(const std::vector<Positions>& shapes, int base, const TriangleGr
     if (std::abs(M.determinant()) < 1e-24) break;  // the pieces move alike: every point is common
     q = -M.inverse() * r;
   }
+  return std::max(parent.box_distance(q), child.box_distance(q)) <= leave;
+}
+
+// Whether a turning pair may slide (classify): a vertex moved by at most kSlideMost of the size
+// lies within kSlideMost size / (2 |sin(angle / 2)|) of the fixed point of each relative motion,
+// and an overlap vertex lies in both pieces' boxes. `fixed`: the most-turning motion's (pin_guess).
+bool may_slide(const PieceShape& a, const PieceShape& b, const std::vector<RigidMotion>& rel,
+               const Eigen::Vector2d& fixed, double size) {
+  double chord = 0;  // the most any motion moves a point at distance 1 from its fixed point
+  for (const RigidMotion& m : rel) chord = std::max(chord, 2 * std::abs(std::sin(0.5 * m.angle)));
+  const double radius = Joints::kSlideMost * size / chord * (1 + 1e-9);
+  return std::max(a.box_distance(fixed), b.box_distance(fixed)) <= radius;
 }
 
 // How far a pin's point may lie outside either of its pieces: this fraction of the smaller piece's
 // size (painted sprites often leave a knee's pivot just outside the thigh).
-double pin_reach(const TriangleGrid& a, const TriangleGrid& b) {
+double pin_reach(const PieceShape& a, const PieceShape& b) {
   return Joints::kPinReach * std::min(a.diagonal(), b.diagonal());
 }
 
-// The vertices of `b` strictly inside `a` (base shape X).
-std::vector<int> inside(const Positions& X, const TriangleGrid& a, const JointPiece& b) {
+// The vertices of `b` inside `a` (base shape; PieceShape::contains), as global vertices.
+std::vector<int> inside(const PieceShape& a, const PieceShape& b) {
   std::vector<int> out;
-  int f;
-  Eigen::Vector3d bary;
-  for (int v : *b.vertices)
-    if (a.locate(X.row(v).transpose(), f, bary) >= kInside) out.push_back(v);
+  if (!a.boxes_meet(b)) return out;
+  const Positions& B = *b.piece().base;
+  for (Eigen::Index v = 0; v < B.rows(); ++v)
+    if (a.in_box(B.row(v).transpose()) && a.contains(B.row(v).transpose())) out.push_back((*b.piece().vertices)[v]);
   return out;
+}
+
+// The vertices of either piece inside the other.
+std::vector<int> overlap_vertices(const PieceShape& a, const PieceShape& b) {
+  std::vector<int> ov = inside(a, b), ba = inside(b, a);
+  ov.insert(ov.end(), ba.begin(), ba.end());
+  return ov;
 }
 
 // The largest distance any of the motions moves x.
@@ -115,8 +136,8 @@ struct Candidate {
   double rank;
 };
 
-// The kind of the joint between pieces a and b (`overlap`: the vertices of either inside the
-// other, empty for pieces that only come near), or false when there is none. Glued: no input moves
+// The kind of the joint between pieces a and b, or false when there is none (pieces that only
+// come near and make no pin). Glued: no input moves
 // b against a by more than kPinGap of the size (turn x size + shift at the overlap's centre). Pin:
 // the refined fixed point of the relative motion lies within pin_reach of both pieces and both
 // carry it to one place in every input. Slide: b moves against a, turning or not, by at most
@@ -125,8 +146,8 @@ struct Candidate {
 // larger of their gap (over kPinGap) and distance outside the pieces (over the reach), plus their
 // largest relative turn (a joint turns less than a chain through it), then glued, then slides,
 // each by its fit.
-bool classify(const std::vector<Positions>& shapes, int base, double size, const TriangleGrid& a,
-              const TriangleGrid& b, const std::vector<int>& overlap, Candidate& out) {
+bool classify(const std::vector<Positions>& shapes, int base, double size, const PieceShape& a,
+              const PieceShape& b, Candidate& out) {
   const Positions& X = shapes[static_cast<size_t>(base)];
   const std::vector<RigidMotion> rel = relative_motions(a.piece(), b.piece(), base);
   double turn = 0;
@@ -134,15 +155,22 @@ bool classify(const std::vector<Positions>& shapes, int base, double size, const
   Eigen::Vector2d q;
   const bool turns = turn > Joints::kPinGap && pin_guess(rel, q);
   if (turns) {
-    refine_pin(shapes, base, a, b, q);
-    const double gap = joint_gap(shapes, base, a, b, q) / size, reach = pin_reach(a, b);
-    const double out_a = a.outside(q, 2 * reach), out_b = b.outside(q, 2 * reach);
-    if (gap <= Joints::kPinGap && out_a <= reach && out_b <= reach) {
-      const double fit = std::max(gap / Joints::kPinGap, 0.5 * (out_a + out_b) / reach);  // at most 1
-      out = {{-1, -1, q, JointKind::Pin, gap}, fit + turn / kPi};
-      return true;
+    // Where no vertex can slide, a point that leaves the pins' reach twice over makes no pin.
+    const bool slides = may_slide(a, b, rel, q, size);
+    const double reach = pin_reach(a, b);
+    if (refine_pin(shapes, base, a, b, slides ? HUGE_VAL : 2 * reach, q)) {
+      std::array<int, 2> faces;
+      const double gap = joint_gap(shapes, base, a, b, q, faces) / size;
+      const double out_a = a.outside(q, 2 * reach), out_b = b.outside(q, 2 * reach);
+      if (gap <= Joints::kPinGap && out_a <= reach && out_b <= reach) {
+        const double fit = std::max(gap / Joints::kPinGap, 0.5 * (out_a + out_b) / reach);  // at most 1
+        out = {{-1, -1, q, JointKind::Pin, gap, faces}, fit + turn / kPi};
+        return true;
+      }
     }
+    if (!slides) return false;
   }
+  const std::vector<int> overlap = overlap_vertices(a, b);
   if (overlap.empty()) return false;
   Eigen::Vector2d centre = Eigen::Vector2d::Zero();
   for (int v : overlap) centre += X.row(v).transpose() / static_cast<double>(overlap.size());
@@ -196,6 +224,7 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
       if (seen[v]) continue;
       seen[v] = true;
       JointEdge e = c->edge;
+      if (e.parent != u) std::swap(e.faces[0], e.faces[1]);
       e.parent = u, e.child = v;
       out.push_back(e);
       todo.push(v);
@@ -210,7 +239,7 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
 // two pieces whose fixed points lie inside them, the one that turns less leaves less to the path its
 // tree's root takes, which two keys do not fix); a piece that only travels (turns by no more than
 // kPinGap) ranks 0.
-JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& grid, int p, int base, size_t k) {
+JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& grid, int p, int base, size_t k) {
   std::vector<RigidMotion> own;
   double turn = 0;
   for (size_t i = 0; i < k; ++i) {
@@ -228,7 +257,7 @@ JointRoot root_rank(const std::vector<JointPiece>& pieces, const TriangleGrid& g
 // a point inside it (root_rank; ties: the piece that moves least), so that a chain joined to
 // nothing still turns about its shoulder, not about its hand.
 std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int base,
-                                    const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                    const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
                                     int root, double size, std::vector<int>& up) {
   const int n = static_cast<int>(pieces.size());
   const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
@@ -244,7 +273,7 @@ std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int ba
   for (int p = 0; p < n; ++p) {
     const int tree = find_set(up, p);
     if (rooted[tree]) continue;
-    const JointRoot r = root_rank(pieces, grids[p], p, base, shapes.size());
+    const JointRoot r = root_rank(pieces, piece_shapes[p], p, base, shapes.size());
     JointRoot& b = best[tree];
     if (b.piece < 0 || r.fit < b.fit || (r.fit == b.fit && moves[p] < moves[b.piece])) b = r;
   }
@@ -255,10 +284,16 @@ std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int ba
 
 }  // namespace
 
-double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent, const TriangleGrid& child,
-                 const Eigen::Vector2d& q) {
+double extent(const std::vector<PieceShape>& pieces) {
+  Eigen::AlignedBox2d box;
+  for (const PieceShape& p : pieces) box.extend(p.box());
+  return box.diagonal().norm();
+}
+
+double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShape& parent, const PieceShape& child,
+                 const Eigen::Vector2d& q, std::array<int, 2>& faces) {
   const Positions& B = shapes[static_cast<size_t>(base)];
-  int fp, fc;
+  int &fp = faces[0], &fc = faces[1];
   Eigen::Vector3d bary;
   parent.locate_nearest(q, fp, bary);
   child.locate_nearest(q, fc, bary);
@@ -274,19 +309,16 @@ double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleG
 }
 
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
-                                       const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                       const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
                                        int root, std::vector<JointRoot>& roots) {
-  const Positions& X = shapes[static_cast<size_t>(base)];
-  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
+  const double size = extent(piece_shapes);
   const int n = static_cast<int>(pieces.size());
   std::vector<Candidate> candidates;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      if (!grids[a].boxes_meet(grids[b], pin_reach(grids[a], grids[b]))) continue;
-      std::vector<int> ov = inside(X, grids[a], pieces[b]), ba = inside(X, grids[b], pieces[a]);
-      ov.insert(ov.end(), ba.begin(), ba.end());
+      if (!piece_shapes[a].boxes_meet(piece_shapes[b], pin_reach(piece_shapes[a], piece_shapes[b]))) continue;
       Candidate c;
-      if (!classify(shapes, base, size, grids[a], grids[b], ov, c)) continue;
+      if (!classify(shapes, base, size, piece_shapes[a], piece_shapes[b], c)) continue;
       c.edge.parent = a, c.edge.child = b;
       candidates.push_back(c);
     }
@@ -300,18 +332,17 @@ std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int
     const int ra = find_set(up, c.edge.parent), rb = find_set(up, c.edge.child);
     if (ra != rb) up[ra] = rb, chosen.push_back(c);
   }
-  roots = choose_roots(shapes, base, pieces, grids, root, size, up);
+  roots = choose_roots(shapes, base, pieces, piece_shapes, root, size, up);
   std::vector<int> sources;
   for (const JointRoot& r : roots) sources.push_back(r.piece);
   return orient(n, chosen, sources);
 }
 
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
-                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids,
+                                        const std::vector<GivenJoint>& links, const std::vector<PieceShape>& piece_shapes,
                                         std::vector<JointRoot>& roots) {
-  const Positions& X = shapes[static_cast<size_t>(base)];
-  const double size = (X.colwise().maxCoeff() - X.colwise().minCoeff()).norm();
-  const int n = static_cast<int>(grids.size());
+  const double size = extent(piece_shapes);
+  const int n = static_cast<int>(piece_shapes.size());
   std::vector<int> parent_link(n, -1), path_link(n, -1);
   for (size_t k = 0; k < links.size(); ++k) {
     std::ostringstream s;
@@ -338,13 +369,14 @@ std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, in
       chain.push_back(q);
       if (parent_link[q] < 0) break;
     }
+    std::array<int, 2> faces;
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
       const int q = *it, k = parent_link[q];
       depth[q] = 0;
       if (k < 0) continue;
       const GivenJoint& g = links[k];
-      out.push_back({g.parent, g.child, g.point, JointKind::Given,
-                     joint_gap(shapes, base, grids[g.parent], grids[g.child], g.point) / size});
+      const double gap = joint_gap(shapes, base, piece_shapes[g.parent], piece_shapes[g.child], g.point, faces);
+      out.push_back({g.parent, g.child, g.point, JointKind::Given, gap / size, faces});
     }
   }
   return out;

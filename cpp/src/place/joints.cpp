@@ -1,6 +1,7 @@
 #include "place/joints.h"
 
 #include <Eigen/Geometry>
+#include <chrono>
 #include <cmath>
 
 #include "mesh/turns.h"
@@ -8,7 +9,7 @@
 namespace bdinterp {
 
 using detail::JointEdge;
-using detail::TriangleGrid;
+using detail::PieceShape;
 
 Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
   Eigen::Vector2d p = Eigen::Vector2d::Zero();
@@ -19,29 +20,33 @@ Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
 Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root,
                const std::vector<detail::GivenJoint>& given)
     : pieces_(pieces) {
-  std::vector<TriangleGrid> grids;
-  grids.reserve(pieces_.size());  // the grids keep references to the pieces
-  for (const JointPiece& p : pieces_) grids.emplace_back(shapes[static_cast<size_t>(base)], p);
+  const auto start = std::chrono::steady_clock::now();
+  std::vector<PieceShape> piece_shapes;
+  piece_shapes.reserve(pieces_.size());  // each keeps a reference to its piece
+  for (const JointPiece& p : pieces_) piece_shapes.emplace_back(p);
   const std::vector<JointEdge> tree = given.empty()
-                                          ? detail::find_joint_tree(shapes, base, pieces_, grids, root, roots_)
-                                          : detail::given_joint_tree(shapes, base, given, grids, roots_);
+                                          ? detail::find_joint_tree(shapes, base, pieces_, piece_shapes, root, roots_)
+                                          : detail::given_joint_tree(shapes, base, given, piece_shapes, roots_);
   for (const detail::GivenJoint& g : given)
-    if (g.parent < 0) paths_.push_back({g.child, site(grids[g.child], g.point), {}});
+    if (g.parent < 0) paths_.push_back({g.child, site(piece_shapes[g.child], g.point), {}});
   for (Path& path : paths_)
     for (const Positions& X : shapes) path.point.push_back(path.at.at(X));
-  for (const JointEdge& e : tree) add_joint(shapes, base, e, grids[e.parent], grids[e.child]);
+  joints_.reserve(tree.size());
+  for (const JointEdge& e : tree) add_joint(shapes, base, e, piece_shapes[e.parent], piece_shapes[e.child]);
+  seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
-Joints::Site Joints::site(const TriangleGrid& piece, const Eigen::Vector2d& q) {
-  int f = -1;
+Joints::Site Joints::site(const PieceShape& piece, const Eigen::Vector2d& q, int face) {
+  int f = face;
   Eigen::Vector3d bary = Eigen::Vector3d::Zero();
-  piece.locate_nearest(q, f, bary);
+  if (f >= 0) bary = piece.barycentric(q, f);
+  else piece.locate_nearest(q, f, bary);
   return {{piece.vertex(f, 0), piece.vertex(f, 1), piece.vertex(f, 2)}, bary};
 }
 
 void Joints::add_joint(const std::vector<Positions>& shapes, int base, const JointEdge& edge,
-                       const TriangleGrid& in_parent, const TriangleGrid& in_child) {
-  Joint j{edge, site(in_parent, edge.point), site(in_child, edge.point), {}, {}, {}};
+                       const PieceShape& in_parent, const PieceShape& in_child) {
+  Joint j{edge, site(in_parent, edge.point, edge.faces[0]), site(in_child, edge.point, edge.faces[1]), {}, {}, {}};
   const std::vector<Frame2>&P = *pieces_[edge.parent].frames, &C = *pieces_[edge.child].frames;
   const size_t b = static_cast<size_t>(base);
   for (size_t i = 0; i < shapes.size(); ++i) {

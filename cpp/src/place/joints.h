@@ -14,17 +14,19 @@
 #include "place/anchor_frame.h"
 #include "bdinterp/interpolator.h"
 #include "bdinterp/types.h"
-#include "place/triangle_grid.h"
+#include "place/piece_shape.h"
 
 namespace bdinterp {
 
 namespace detail {
-// One joint of the tree: the pieces, its point in the base shape, its kind and fit (JointInfo).
+// One joint of the tree: the pieces, its point in the base shape, its kind and fit (JointInfo),
+// and the faces of the parent and the child that carry the point (-1: not yet located).
 struct JointEdge {
   int parent = -1, child = -1;
   Eigen::Vector2d point = Eigen::Vector2d::Zero();
   JointKind kind = JointKind::Pin;
   double fit = 0;
+  std::array<int, 2> faces = {-1, -1};
 };
 // The root of a tree of joints: the piece, why it roots its tree, and for RootReason::Turns the
 // fixed point of its own motion (base shape) and its rank (root_rank in joint_tree.cpp).
@@ -47,18 +49,20 @@ struct GivenJoint {
 // (root >= 0), else the piece whose own motion is best a turn about a point inside it; `roots`
 // gets each tree's root (a piece in no joint is a tree of its own).
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
-                                       const std::vector<JointPiece>& pieces, const std::vector<TriangleGrid>& grids,
+                                       const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
                                        int root, std::vector<JointRoot>& roots);
 // The given links in tree order, parents first (InvalidInput naming link k for two parents of one
 // piece, a link within one piece or a cycle); the fit is measured as for a pin. `roots` gets the
 // pieces with no parent (RootReason::Path for those a link with parent -1 gives a path).
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
-                                        const std::vector<GivenJoint>& links, const std::vector<TriangleGrid>& grids,
+                                        const std::vector<GivenJoint>& links, const std::vector<PieceShape>& piece_shapes,
                                         std::vector<JointRoot>& roots);
+// The size the joints' tolerances scale: the diagonal of the pieces' bounding box (base shape).
+double extent(const std::vector<PieceShape>& pieces);
 // The largest gap over the inputs between where the two pieces' triangles carry q (q located in
-// each, extended by the nearest triangle's affine map outside it).
-double joint_gap(const std::vector<Positions>& shapes, int base, const TriangleGrid& parent,
-                 const TriangleGrid& child, const Eigen::Vector2d& q);
+// each, extended by the nearest triangle's affine map outside it); `faces` gets the two faces.
+double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShape& parent,
+                 const PieceShape& child, const Eigen::Vector2d& q, std::array<int, 2>& faces);
 }  // namespace detail
 
 class Joints {
@@ -93,6 +97,8 @@ class Joints {
   static constexpr double kSlideMost = 0.05;
   // Each tree's root (find_joint_tree, given_joint_tree).
   const std::vector<detail::JointRoot>& roots() const { return roots_; }
+  // Wall-clock seconds the constructor took.
+  double seconds() const { return seconds_; }
 
  private:
   // A point of the base shape in a piece: the face's three global vertices, barycentric weights.
@@ -108,10 +114,11 @@ class Joints {
     std::vector<double> parent_angle;       // per input: the parent's anchor angle
     std::vector<Eigen::Vector2d> offset;    // per input: child's point minus parent's (0 at a pin)
   };
-  // Where q (base shape) lies in the piece: its triangle, or the one whose extension is nearest.
-  static Site site(const detail::TriangleGrid& piece, const Eigen::Vector2d& q);
+  // Where q (base shape) lies in the piece: in `face` if given (>= 0), else its triangle or the
+  // one whose extension is nearest.
+  static Site site(const detail::PieceShape& piece, const Eigen::Vector2d& q, int face = -1);
   void add_joint(const std::vector<Positions>& shapes, int base, const detail::JointEdge& edge,
-                 const detail::TriangleGrid& in_parent, const detail::TriangleGrid& in_child);
+                 const detail::PieceShape& in_parent, const detail::PieceShape& in_child);
 
   // A root that travels on its given path: its point in the piece and where each input puts it.
   struct Path {
@@ -124,6 +131,7 @@ class Joints {
   std::vector<Path> paths_;
   std::vector<detail::JointRoot> roots_;
   const std::vector<JointPiece> pieces_;
+  double seconds_ = 0;
 };
 
 }  // namespace bdinterp

@@ -1,0 +1,160 @@
+#include "place/piece_shape.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace bdinterp::detail {
+namespace {
+
+// The squared distance from q to the segment [a, b].
+double squared_distance(const Eigen::Vector2d& q, const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+  const Eigen::Vector2d e = b - a;
+  const double t = std::clamp((q - a).dot(e) / std::max(e.squaredNorm(), 1e-300), 0.0, 1.0);
+  return (a + t * e - q).squaredNorm();
+}
+
+}  // namespace
+
+PieceShape::PieceShape(const JointPiece& piece) : piece_(piece) {
+  const std::vector<std::vector<int>>& loops = piece.mesh->boundary_loops();
+  Eigen::AlignedBox2d box;
+  for (int l = 0; l < static_cast<int>(loops.size()); ++l) {
+    const int n = static_cast<int>(loops[static_cast<size_t>(l)].size());
+    for (int k = 0; k < n; k += kRunEdges) {
+      Run run{Eigen::AlignedBox2d(), l, k, std::min(n, k + kRunEdges)};
+      for (int i = k; i <= run.end; ++i) run.box.extend(point(l, i));
+      box.extend(run.box);
+      runs_.push_back(run);
+    }
+  }
+  lo_ = box.min(), hi_ = box.max();
+}
+
+Eigen::Vector2d PieceShape::point(int loop, int k) const {
+  const std::vector<int>& l = piece_.mesh->boundary_loops()[static_cast<size_t>(loop)];
+  return piece_.base->row(l[static_cast<size_t>(k) % l.size()]).transpose();
+}
+
+Eigen::Vector3d PieceShape::barycentric(const Eigen::Vector2d& q, int f) const {
+  const Eigen::Vector2d a = corner(f, 0), e1 = corner(f, 1) - a, e2 = corner(f, 2) - a, d = q - a;
+  const double det = e1.x() * e2.y() - e1.y() * e2.x();
+  const double s = (d.x() * e2.y() - d.y() * e2.x()) / det, t = (e1.x() * d.y() - e1.y() * d.x()) / det;
+  return {1 - s - t, s, t};
+}
+
+int PieceShape::walk(const Eigen::Vector2d& q, int f, Eigen::Vector3d& bary, int steps) const {
+  const Mesh& mesh = *piece_.mesh;
+  for (int step = 0; step <= steps; ++step) {
+    bary = barycentric(q, f);
+    if (bary.minCoeff() >= -kInside) return f;
+    std::array<int, 3> order = {0, 1, 2};  // across the edge q lies farthest beyond, else the next
+    std::sort(order.begin(), order.end(), [&](int i, int j) { return bary[i] < bary[j]; });
+    int next = -1;
+    for (int k = 0; k < 3 && next < 0 && bary[order[k]] < -kInside; ++k)
+      next = mesh.opposite_face(mesh.face_edges()(f, order[k]), f);
+    if (next < 0) return -1;  // the outline
+    f = next;
+  }
+  return -1;
+}
+
+int PieceShape::scan(const Eigen::Vector2d& q, Eigen::Vector3d& bary) const {
+  int face = -1;
+  double best = -kInside;
+  for (int f = 0; f < piece_.mesh->num_faces(); ++f) {
+    const Eigen::Vector3d b = barycentric(q, f);
+    if (b.minCoeff() >= best) best = b.minCoeff(), face = f, bary = b;
+  }
+  return face;
+}
+
+double PieceShape::locate(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& bary) const {
+  face = -1;
+  if (!in_box(q)) return -HUGE_VAL;
+  // From the last face found when q lies near it (a least weight above -kNearWalk / 2)
+  int f = barycentric(q, hint_).minCoeff() > -0.5 * kNearWalk ? walk(q, hint_, bary, kNearWalk) : -1;
+  if (f < 0) {  // else, or where the outline stopped that walk, from a face at the outline nearest
+    if (!winds(q)) return -HUGE_VAL;  // q, whose segment to q crosses no outline; then every face
+    double distance;
+    f = walk(q, *piece_.mesh->vertex_faces(nearest_edge(q, HUGE_VAL, distance)[0]).begin(), bary,
+             piece_.mesh->num_faces());
+    if (f < 0) f = scan(q, bary);  // a walk that turned back on itself
+  }
+  if (f < 0) return -HUGE_VAL;
+  hint_ = face = f;
+  return bary.minCoeff();
+}
+
+bool PieceShape::contains(const Eigen::Vector2d& q) const {
+  const double margin = kOnOutline * diagonal();
+  bool near = false;
+  const int w = winding(q, margin * margin, near);
+  return !near && w != 0;
+}
+
+double PieceShape::locate_nearest(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& bary) const {
+  const double inside = locate(q, face, bary);
+  if (face >= 0) return inside;
+  double distance;
+  face = edge_face(nearest_edge(q, HUGE_VAL, distance));
+  bary = barycentric(q, face);
+  return bary.minCoeff();
+}
+
+double PieceShape::outside(const Eigen::Vector2d& q, double within) const {
+  const Eigen::Vector2d reach = Eigen::Vector2d::Constant(within);
+  if (((q - reach).array() > hi_.array()).any() || ((q + reach).array() < lo_.array()).any()) return within;
+  int face;
+  Eigen::Vector3d bary;
+  if (locate(q, face, bary) > -HUGE_VAL) return 0;
+  double distance;
+  nearest_edge(q, within, distance);
+  return distance;
+}
+
+int PieceShape::winding(const Eigen::Vector2d& q, double margin2, bool& near) const {
+  int winding = 0;  // signed crossings of the ray from q to +x
+  for (const Run& r : runs_) {
+    near = r.box.squaredExteriorDistance(q) < margin2;
+    if (!near && (q.y() < r.box.min().y() || q.y() > r.box.max().y() || q.x() >= r.box.max().x())) continue;
+    Eigen::Vector2d a = point(r.loop, r.begin);
+    for (int k = r.begin; k < r.end; ++k) {
+      const Eigen::Vector2d b = point(r.loop, k + 1);
+      if (near && squared_distance(q, a, b) < margin2) return 0;
+      if ((a.y() <= q.y()) != (b.y() <= q.y()) && a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()) > q.x())
+        winding += b.y() > a.y() ? 1 : -1;
+      a = b;
+    }
+  }
+  near = false;
+  return winding;
+}
+
+std::array<int, 2> PieceShape::nearest_edge(const Eigen::Vector2d& q, double within, double& distance) const {
+  double least = within * within;  // squared distances, one root at the end
+  std::array<int, 2> best = {-1, -1};
+  for (const Run& r : runs_) {
+    if (r.box.squaredExteriorDistance(q) >= least) continue;
+    Eigen::Vector2d a = point(r.loop, r.begin);
+    for (int k = r.begin; k < r.end; ++k) {
+      const Eigen::Vector2d b = point(r.loop, k + 1);
+      const double d = squared_distance(q, a, b);
+      if (d < least) least = d, best = {r.loop, k};
+      a = b;
+    }
+  }
+  distance = best[0] < 0 ? within : std::sqrt(least);
+  if (best[0] < 0) return best;
+  const std::vector<int>& loop = piece_.mesh->boundary_loops()[static_cast<size_t>(best[0])];
+  return {loop[static_cast<size_t>(best[1])], loop[static_cast<size_t>(best[1] + 1) % loop.size()]};
+}
+
+int PieceShape::edge_face(const std::array<int, 2>& edge) const {
+  const Faces& F = piece_.mesh->faces();
+  for (int f : piece_.mesh->vertex_faces(edge[0]))
+    if (F(f, 0) == edge[1] || F(f, 1) == edge[1] || F(f, 2) == edge[1]) return f;
+  return *piece_.mesh->vertex_faces(edge[0]).begin();  // not reached: an outline edge has its face
+}
+
+}  // namespace bdinterp::detail

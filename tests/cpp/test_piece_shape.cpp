@@ -1,0 +1,153 @@
+// Point location in one piece of a cut-out character (place/piece_shape.h) against brute force over
+// every face and every outline edge, on pieces whose walks the outline stops: an L (a concave
+// outline) and an annulus (a hole).
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <vector>
+
+#include "mesh/mesh.h"
+#include "place/anchor_frame.h"
+#include "place/piece_shape.h"
+#include "test_meshes.h"
+
+namespace bdinterp {
+namespace {
+
+using detail::PieceShape;
+
+// A piece and what PieceShape reads of it.
+struct TestPiece {
+  TestPiece(const Positions& V, const Faces& F)
+      : base(V), mesh(F, static_cast<int>(V.rows())), vertices(static_cast<size_t>(V.rows())) {
+    std::iota(vertices.begin(), vertices.end(), 0);
+  }
+  JointPiece joint() const { return {&vertices, &mesh, &base, &frames}; }
+  Positions base;
+  Mesh mesh;
+  std::vector<int> vertices;
+  std::vector<Frame2> frames;
+};
+
+// [0, 1]^2 without the quads of [0.5, 1] x [0.5, 1]: an L whose notch stops straight walks.
+TestPiece l_shape() {
+  const testing::TestMesh grid = testing::jittered_grid(10, 10, 1.0, 1.0, 5);
+  std::vector<int> keep;
+  for (int f = 0; f < grid.F.rows(); ++f) {
+    Eigen::Vector2d c = Eigen::Vector2d::Zero();
+    for (int k = 0; k < 3; ++k) c += grid.V.row(grid.F(f, k)).transpose() / 3.0;
+    if (c.x() < 0.5 || c.y() < 0.5) keep.push_back(f);
+  }
+  return TestPiece(grid.V, testing::rows_of(grid.F, keep));
+}
+
+// The weights of q in face f, as PieceShape computes them.
+Eigen::Vector3d weights(const TestPiece& p, const Eigen::Vector2d& q, int f) {
+  const Eigen::Vector2d a = p.base.row(p.mesh.faces()(f, 0)).transpose();
+  Eigen::Matrix2d E;
+  E << p.base.row(p.mesh.faces()(f, 1)).transpose() - a, p.base.row(p.mesh.faces()(f, 2)).transpose() - a;
+  const Eigen::Vector2d st = E.inverse() * (q - a);
+  return {1 - st.sum(), st.x(), st.y()};
+}
+
+// Brute force: the largest least weight of q over every face.
+double best_weight(const TestPiece& p, const Eigen::Vector2d& q) {
+  double best = -HUGE_VAL;
+  for (int f = 0; f < p.mesh.num_faces(); ++f) best = std::max(best, weights(p, q, f).minCoeff());
+  return best;
+}
+
+// Brute force: the distance from q to the outline.
+double outline_distance(const TestPiece& p, const Eigen::Vector2d& q) {
+  double best = HUGE_VAL;
+  for (const std::vector<int>& loop : p.mesh.boundary_loops())
+    for (size_t k = 0; k < loop.size(); ++k) {
+      const Eigen::Vector2d a = p.base.row(loop[k]).transpose(), e = p.base.row(loop[(k + 1) % loop.size()]).transpose() - a;
+      const double t = std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0);
+      best = std::min(best, (a + t * e - q).norm());
+    }
+  return best;
+}
+
+// Every query on random points (and points from one arm to the other, so that the walk from the
+// last face must cross the outline) agrees with brute force.
+void check_against_brute_force(const TestPiece& p, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+  const PieceShape shape(p.joint());
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> x(lo.x(), hi.x()), y(lo.y(), hi.y());
+  int inside = 0, outside = 0;
+  for (int k = 0; k < 400; ++k) {
+    const Eigen::Vector2d q(x(rng), y(rng));
+    const double best = best_weight(p, q), distance = outline_distance(p, q);
+    int face;
+    Eigen::Vector3d bary;
+    const double found = shape.locate(q, face, bary);
+    if (best >= detail::kInside) {  // clearly inside: a face holding q is found
+      ++inside;
+      ASSERT_GE(face, 0) << q.transpose();
+      EXPECT_GE(found, -detail::kInside);
+      EXPECT_NEAR((bary - weights(p, q, face)).norm(), 0, 1e-12);
+      EXPECT_TRUE(shape.contains(q)) << q.transpose();
+      EXPECT_EQ(shape.outside(q, 1.0), 0.0);
+    } else if (best < -1e-6) {  // clearly outside
+      ++outside;
+      EXPECT_EQ(face, -1) << q.transpose();
+      EXPECT_FALSE(shape.contains(q));
+      EXPECT_NEAR(shape.outside(q, 10.0), distance, 1e-12);
+      EXPECT_EQ(shape.outside(q, 0.5 * distance), 0.5 * distance);
+      shape.locate_nearest(q, face, bary);  // the face on the nearest outline edge
+      ASSERT_GE(face, 0);
+      double on_edge = HUGE_VAL;
+      for (int c = 0; c < 3; ++c) {
+        const Eigen::Vector2d a = p.base.row(p.mesh.faces()(face, c)).transpose();
+        const Eigen::Vector2d e = p.base.row(p.mesh.faces()(face, (c + 1) % 3)).transpose() - a;
+        on_edge = std::min(on_edge, (a + std::clamp((q - a).dot(e) / e.squaredNorm(), 0.0, 1.0) * e - q).norm());
+      }
+      EXPECT_NEAR(on_edge, distance, 1e-12);
+    }
+  }
+  EXPECT_GT(inside, 100);
+  EXPECT_GT(outside, 50);
+}
+
+TEST(PieceShape, LocatesInAConcavePieceAsBruteForce) {
+  const TestPiece p = l_shape();
+  check_against_brute_force(p, {-0.2, -0.2}, {1.2, 1.2});
+  EXPECT_NEAR(PieceShape(p.joint()).diagonal(), std::sqrt(2.0), 1e-12);
+}
+
+TEST(PieceShape, WalksRoundTheNotchFromOneArmToTheOther) {
+  const TestPiece p = l_shape();
+  const PieceShape shape(p.joint());
+  int face;
+  Eigen::Vector3d bary;
+  for (int k = 0; k < 20; ++k) {  // alternate between the arms' ends: each walk from the last face hits the notch
+    const Eigen::Vector2d q = k % 2 ? Eigen::Vector2d(0.93, 0.21 + 0.01 * k) : Eigen::Vector2d(0.21 + 0.01 * k, 0.93);
+    ASSERT_GE(shape.locate(q, face, bary), -detail::kInside);
+    EXPECT_NEAR((bary - weights(p, q, face)).norm(), 0, 1e-12);
+  }
+}
+
+TEST(PieceShape, TheHoleIsOutside) {
+  const testing::TestMesh a = testing::annulus(6, 48);
+  const TestPiece p(a.V, a.F);
+  check_against_brute_force(p, {-1.1, -1.1}, {1.1, 1.1});
+  const PieceShape shape(p.joint());
+  int face;
+  Eigen::Vector3d bary;
+  EXPECT_EQ(shape.locate(Eigen::Vector2d(0.05, -0.1), face, bary), -HUGE_VAL);
+  EXPECT_FALSE(shape.contains(Eigen::Vector2d(0.05, -0.1)));
+}
+
+TEST(PieceShape, AVertexOnTheOutlineIsNotInside) {
+  const TestPiece p = l_shape();
+  const PieceShape shape(p.joint());
+  for (const std::vector<int>& loop : p.mesh.boundary_loops())
+    for (int v : loop) EXPECT_FALSE(shape.contains(p.base.row(v).transpose())) << "vertex " << v;
+  EXPECT_TRUE(shape.contains(Eigen::Vector2d(0.25, 0.25)));
+}
+
+}  // namespace
+}  // namespace bdinterp
