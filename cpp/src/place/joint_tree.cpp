@@ -52,11 +52,10 @@ bool pin_guess(const std::vector<RigidMotion>& rel, Eigen::Vector2d& q) {
 }
 
 // The affine map of face f of a piece from the base shape B to X: x -> J x + c.
-void face_map(const PieceShape& piece, int f, const Positions& B, const Positions& X, Eigen::Matrix2d& J,
-              Eigen::Vector2d& c) {
+void face_map(const PieceShape& piece, int f, const Positions& X, Eigen::Matrix2d& J, Eigen::Vector2d& c) {
   const int a = piece.vertex(f, 0), b = piece.vertex(f, 1), d = piece.vertex(f, 2);
-  J = edge_matrix(X, a, b, d) * edge_matrix(B, a, b, d).inverse();
-  c = X.row(a).transpose() - J * B.row(a).transpose();
+  J = edge_matrix(X, a, b, d) * piece.base_edges(f).inverse();
+  c = X.row(a).transpose() - J * piece.base_corner(f, 0);
 }
 
 // Refines q to the point that the parent's and the child's triangles carry to the same place in
@@ -65,7 +64,6 @@ void face_map(const PieceShape& piece, int f, const Positions& B, const Position
 // and no further step, once q lies farther than `leave` from either piece's bounding box.
 bool refine_pin(const std::vector<Positions>& shapes, int base, const PieceShape& parent, const PieceShape& child,
                 double leave, Eigen::Vector2d& q) {
-  const Positions& B = shapes[static_cast<size_t>(base)];
   int fp = -1, fc = -1, last_p = -2, last_c = -2;
   Eigen::Vector3d bary;
   for (int iteration = 0; iteration < 10 && (fp != last_p || fc != last_c); ++iteration) {
@@ -75,11 +73,12 @@ bool refine_pin(const std::vector<Positions>& shapes, int base, const PieceShape
     child.locate_nearest(q, fc, bary);
     Eigen::Matrix2d M = Eigen::Matrix2d::Zero();
     Eigen::Vector2d r = Eigen::Vector2d::Zero();
-    for (const Positions& X : shapes) {  // the gap (Jc - Jp) q + (cc - cp) in each input
+    for (size_t i = 0; i < shapes.size(); ++i) {  // the gap (Jc - Jp) q + (cc - cp) in each input
+      if (i == static_cast<size_t>(base)) continue;  // none in the base: both maps are the identity
       Eigen::Matrix2d Jp, Jc;
       Eigen::Vector2d cp, cc;
-      face_map(parent, fp, B, X, Jp, cp);
-      face_map(child, fc, B, X, Jc, cc);
+      face_map(parent, fp, shapes[i], Jp, cp);
+      face_map(child, fc, shapes[i], Jc, cc);
       M += (Jc - Jp).transpose() * (Jc - Jp);
       r += (Jc - Jp).transpose() * (cc - cp);
     }
@@ -292,17 +291,17 @@ double extent(const std::vector<PieceShape>& pieces) {
 
 double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShape& parent, const PieceShape& child,
                  const Eigen::Vector2d& q, std::array<int, 2>& faces) {
-  const Positions& B = shapes[static_cast<size_t>(base)];
   int &fp = faces[0], &fc = faces[1];
   Eigen::Vector3d bary;
   parent.locate_nearest(q, fp, bary);
   child.locate_nearest(q, fc, bary);
-  double gap = 0;
-  for (const Positions& X : shapes) {
+  double gap = 0;  // none in the base, where both maps are the identity
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    if (i == static_cast<size_t>(base)) continue;
     Eigen::Matrix2d Jp, Jc;
     Eigen::Vector2d cp, cc;
-    face_map(parent, fp, B, X, Jp, cp);
-    face_map(child, fc, B, X, Jc, cc);
+    face_map(parent, fp, shapes[i], Jp, cp);
+    face_map(child, fc, shapes[i], Jc, cc);
     gap = std::max(gap, ((Jc - Jp) * q + cc - cp).norm());
   }
   return gap;

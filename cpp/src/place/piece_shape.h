@@ -71,6 +71,13 @@ class PieceShape {
   double locate_nearest(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& bary) const;
   // The barycentric weights of q in face f (extended outside it).
   Eigen::Vector3d barycentric(const Eigen::Vector2d& q, int f) const;
+  // Face f's corner c and its edge matrix (corners 1 and 2 minus corner 0) in the base shape.
+  Eigen::Vector2d base_corner(int f, int c) const { return corner(f, c); }
+  Eigen::Matrix2d base_edges(int f) const {
+    Eigen::Matrix2d E;
+    E << corner(f, 1) - corner(f, 0), corner(f, 2) - corner(f, 0);
+    return E;
+  }
   // Global vertex of corner c of face f.
   int vertex(int f, int c) const { return (*piece_.vertices)[piece_.mesh->faces()(f, c)]; }
   const JointPiece& piece() const { return piece_; }
