@@ -172,7 +172,7 @@ class Interpolator {
   double joints_seconds() const;
 
  private:
-  // The shapes moved and scaled to unit size (sets offset_, scale_), validated.
+  // The shapes moved and scaled to unit size (sets offset_, scale_ and base_size_), validated.
   std::vector<Positions> normalise(const std::vector<Positions>& shapes, const Mesh& mesh);
   void check_weights(const Eigen::VectorXd& w) const;
   // Solvers for `workers` workers, workers 1, 2, ... continuing from worker 0's history.
@@ -186,6 +186,7 @@ class Interpolator {
   InterpolatorOptions options_;
   Eigen::RowVector2d offset_;  // caller's = scale_ * normalised + offset_
   double scale_ = 1;
+  double base_size_ = 0;  // the normalised base shape's bounding box diagonal
   std::vector<std::unique_ptr<const detail::PiecePlan>> plans_;
   // workers_[k][p]: worker k's solver of piece p (worker 0 serves at/blend and keeps history).
   std::vector<std::vector<std::unique_ptr<detail::PieceSolver>>> workers_;

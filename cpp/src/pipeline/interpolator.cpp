@@ -87,7 +87,7 @@ std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<c
 
 // The joints between pieces (joints.h); null with one piece or joints off.
 std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<const PiecePlan>>& plans,
-                                          const std::vector<Positions>& unit, const Anchor& anchor,
+                                          const std::vector<Positions>& unit, double size, const Anchor& anchor,
                                           const InterpolatorOptions& options, const std::vector<detail::GivenJoint>& given) {
   if (!options.joints || plans.size() < 2) return nullptr;
   std::vector<JointPiece> parts;
@@ -98,7 +98,7 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
       anchored = static_cast<int>(parts.size());
     parts.push_back({&vs, &p->piece.mesh, &p->anchor.base(), &p->frames});
   }
-  return std::make_unique<const Joints>(unit, options.base, parts, anchored, given);
+  return std::make_unique<const Joints>(unit, options.base, size, parts, anchored, given);
 }
 
 // frames()'s workers, at least 1: `threads` asked for, at most one per frame; by default (0) the
@@ -155,7 +155,7 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base);
   // The joints read the pieces' meshes and base shapes: before the solvers' workspaces evict them.
   std::unique_ptr<const Joints> joints =
-      join_pieces(plans_, unit, anchor, options, given_joints(plans_, num_vertices_, options, offset_, scale_));
+      join_pieces(plans_, unit, base_size_, anchor, options, given_joints(plans_, num_vertices_, options, offset_, scale_));
   workers_.resize(1);
   for (const auto& plan : plans_) workers_[0].push_back(PieceSolver::make(*plan));
   passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds), std::move(joints),

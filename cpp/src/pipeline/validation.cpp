@@ -104,14 +104,20 @@ using detail::weights_text;
 std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& shapes, const Mesh& mesh) {
   // The bounding box of every finite coordinate; the scale a power of two, so that scaling is exact
   // and a shape scaled by 2^k gives exactly the scaled frames.
-  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo;
-  for (const Positions& X : shapes)
-    for (Eigen::Index v = 0; v < X.rows(); ++v)
-      if (X.row(v).allFinite()) lo = lo.cwiseMin(X.row(v)), hi = hi.cwiseMax(X.row(v));
+  Eigen::RowVector2d lo = Eigen::RowVector2d::Constant(HUGE_VAL), hi = -lo, base_lo = lo, base_hi = hi;
+  for (size_t i = 0; i < shapes.size(); ++i)
+    for (Eigen::Index v = 0; v < shapes[i].rows(); ++v) {
+      const auto x = shapes[i].row(v);
+      if (!x.allFinite()) continue;
+      lo = lo.cwiseMin(x), hi = hi.cwiseMax(x);
+      if (i == static_cast<size_t>(options_.base)) base_lo = base_lo.cwiseMin(x), base_hi = base_hi.cwiseMax(x);
+    }
   const bool any = (lo.array() <= hi.array()).all();
   offset_ = any ? Eigen::RowVector2d(0.5 * lo + 0.5 * hi) : Eigen::RowVector2d::Zero();
   const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
   scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
+  // Rounding is monotone: the normalised base's box is its box moved and scaled.
+  base_size_ = any ? ((base_hi.array() - offset_.array()) / scale_ - (base_lo.array() - offset_.array()) / scale_).matrix().norm() : 0.0;
   std::vector<Positions> unit;
   for (size_t i = 0; i < shapes.size(); ++i) {
     unit.push_back((shapes[i].rowwise() - offset_) / scale_);

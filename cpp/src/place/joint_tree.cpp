@@ -283,12 +283,6 @@ std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int ba
 
 }  // namespace
 
-double extent(const std::vector<PieceShape>& pieces) {
-  Eigen::AlignedBox2d box;
-  for (const PieceShape& p : pieces) box.extend(p.box());
-  return box.diagonal().norm();
-}
-
 double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShape& parent, const PieceShape& child,
                  const Eigen::Vector2d& q, std::array<int, 2>& faces) {
   int &fp = faces[0], &fc = faces[1];
@@ -307,10 +301,9 @@ double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShap
   return gap;
 }
 
-std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base,
+std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base, double size,
                                        const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
                                        int root, std::vector<JointRoot>& roots) {
-  const double size = extent(piece_shapes);
   const int n = static_cast<int>(pieces.size());
   std::vector<Candidate> candidates;
   for (int a = 0; a < n; ++a)
@@ -337,10 +330,9 @@ std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int
   return orient(n, chosen, sources);
 }
 
-std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base,
+std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base, double size,
                                         const std::vector<GivenJoint>& links, const std::vector<PieceShape>& piece_shapes,
                                         std::vector<JointRoot>& roots) {
-  const double size = extent(piece_shapes);
   const int n = static_cast<int>(piece_shapes.size());
   std::vector<int> parent_link(n, -1), path_link(n, -1);
   for (size_t k = 0; k < links.size(); ++k) {

@@ -17,16 +17,16 @@ Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
   return p;
 }
 
-Joints::Joints(const std::vector<Positions>& shapes, int base, const std::vector<JointPiece>& pieces, int root,
-               const std::vector<detail::GivenJoint>& given)
+Joints::Joints(const std::vector<Positions>& shapes, int base, double size, const std::vector<JointPiece>& pieces,
+               int root, const std::vector<detail::GivenJoint>& given)
     : pieces_(pieces) {
   const auto start = std::chrono::steady_clock::now();
   std::vector<PieceShape> piece_shapes;
   piece_shapes.reserve(pieces_.size());  // each keeps a reference to its piece
   for (const JointPiece& p : pieces_) piece_shapes.emplace_back(p);
   const std::vector<JointEdge> tree = given.empty()
-                                          ? detail::find_joint_tree(shapes, base, pieces_, piece_shapes, root, roots_)
-                                          : detail::given_joint_tree(shapes, base, given, piece_shapes, roots_);
+                                          ? detail::find_joint_tree(shapes, base, size, pieces_, piece_shapes, root, roots_)
+                                          : detail::given_joint_tree(shapes, base, size, given, piece_shapes, roots_);
   for (const detail::GivenJoint& g : given)
     if (g.parent < 0) paths_.push_back({g.child, site(piece_shapes[g.child], g.point), {}});
   for (Path& path : paths_)
