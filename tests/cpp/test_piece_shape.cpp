@@ -73,12 +73,13 @@ double outline_distance(const TestPiece& p, const Eigen::Vector2d& q) {
 
 // Every query on random points (and points from one arm to the other, so that the walk from the
 // last face must cross the outline) agrees with brute force.
-void check_against_brute_force(const TestPiece& p, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi) {
+void check_against_brute_force(const TestPiece& p, const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                               int samples = 400) {
   const PieceShape shape(p.joint());
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> x(lo.x(), hi.x()), y(lo.y(), hi.y());
   int inside = 0, outside = 0;
-  for (int k = 0; k < 400; ++k) {
+  for (int k = 0; k < samples; ++k) {
     const Eigen::Vector2d q(x(rng), y(rng));
     const double best = best_weight(p, q), distance = outline_distance(p, q);
     int face;
@@ -128,6 +129,23 @@ TEST(PieceShape, WalksRoundTheNotchFromOneArmToTheOther) {
     ASSERT_GE(shape.locate(q, face, bary), -detail::kInside);
     EXPECT_NEAR((bary - weights(p, q, face)).norm(), 0, 1e-12);
   }
+}
+
+// A strip wound twice round the origin (radius 0.3 + 0.045 theta, 0.03 wide, 4 x 160 cells):
+// straight walks from the last face found meet its outline at almost every turn.
+TestPiece spiral() {
+  const testing::TestMesh strip = testing::jittered_grid(160, 4, 1.0, 1.0, 9);
+  Positions V(strip.V.rows(), 2);
+  for (Eigen::Index v = 0; v < V.rows(); ++v) {
+    const double theta = 4 * kPi * strip.V(v, 0), r = 0.3 + 0.045 * theta + 0.03 * strip.V(v, 1);
+    V.row(v) << r * std::cos(theta), r * std::sin(theta);
+  }
+  return TestPiece(V, strip.F);
+}
+
+TEST(PieceShape, LocatesInAWoundStripAsBruteForce) {
+  const TestPiece p = spiral();
+  check_against_brute_force(p, {-0.9, -0.9}, {0.9, 0.9}, 4000);
 }
 
 TEST(PieceShape, TheHoleIsOutside) {
