@@ -84,31 +84,9 @@ void bind_threading_info(py::module_& m) {
       "of the OpenMP runtime CHOLMOD calls, whose teams may shrink to the idle cores; None if none).");
 }
 
-}  // namespace
-
-void bind_interpolator(py::module_& m) {
-  bind_options(m);
-  bind_threading_info(m);
-  m.def("piece_labels", &piece_labels, py::arg("faces"), py::arg("num_vertices"),
-        "(n,) the piece of every vertex as the Interpolator splits the mesh, numbered in order of "
-        "each piece's lowest vertex; a vertex in no face is a piece of its own.");
-  py::class_<Interpolator>(m, "Interpolator")
-      .def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
-                    const InterpolatorOptions&>(),
-           py::arg("shapes"), py::arg("faces"), py::arg("anchor") = Anchor::centroid(),
-           py::arg("options") = InterpolatorOptions{}, Release())
-      .def("at", &Interpolator::at, py::arg("t"), Release())
-      .def("blend", &Interpolator::blend, py::arg("weights"), Release())
-      .def("frames_into", &Interpolator::frames, py::arg("ts"), py::arg("out").noconvert(), Release(),
-           "Writes frame j into rows [j n, (j+1) n) of out, a C-contiguous float64 (len(ts) n, 2) array.")
-      .def_property_readonly(
-          "stats",
-          [](const Interpolator& I) {
-            py::gil_scoped_release release;  // last_stats() takes the mutex a solve may hold
-            return I.last_stats();
-          },
-          "FrameStats of the last at()/blend(), or of all frames of frames_into().")
-      .def(
+// The joints an Interpolator found or was given, their roots, and what they cost to choose.
+void bind_joints(py::class_<Interpolator>& cls) {
+  cls.def(
           "joints",
           [](const Interpolator& I) {
             py::list out;
@@ -136,7 +114,33 @@ void bind_interpolator(py::module_& m) {
           "distance outside the piece over the pins' reach x its size, plus its largest turn / pi).")
       .def_property_readonly("joints_seconds", &Interpolator::joints_seconds,
                              "Wall-clock seconds the joints took when it was made (the tree found or the "
-                             "given links checked, each joint's sites and offsets); 0 without joints.")
+                             "given links checked, each joint's sites and offsets); 0 without joints.");
+}
+
+}  // namespace
+
+void bind_interpolator(py::module_& m) {
+  bind_options(m);
+  bind_threading_info(m);
+  m.def("piece_labels", &piece_labels, py::arg("faces"), py::arg("num_vertices"),
+        "(n,) the piece of every vertex as the Interpolator splits the mesh, numbered in order of "
+        "each piece's lowest vertex; a vertex in no face is a piece of its own.");
+  py::class_<Interpolator> cls(m, "Interpolator");
+  cls.def(py::init<const std::vector<Positions>&, const Faces&, const Anchor&,
+                    const InterpolatorOptions&>(),
+           py::arg("shapes"), py::arg("faces"), py::arg("anchor") = Anchor::centroid(),
+           py::arg("options") = InterpolatorOptions{}, Release())
+      .def("at", &Interpolator::at, py::arg("t"), Release())
+      .def("blend", &Interpolator::blend, py::arg("weights"), Release())
+      .def("frames_into", &Interpolator::frames, py::arg("ts"), py::arg("out").noconvert(), Release(),
+           "Writes frame j into rows [j n, (j+1) n) of out, a C-contiguous float64 (len(ts) n, 2) array.")
+      .def_property_readonly(
+          "stats",
+          [](const Interpolator& I) {
+            py::gil_scoped_release release;  // last_stats() takes the mutex a solve may hold
+            return I.last_stats();
+          },
+          "FrameStats of the last at()/blend(), or of all frames of frames_into().")
       .def("folded_faces", &Interpolator::folded_faces, py::arg("shape"),
            "Faces of input `shape` folded (reversed) relative to the base shape.")
       .def("forget", &Interpolator::forget, Release(),
@@ -148,6 +152,7 @@ void bind_interpolator(py::module_& m) {
                              "options.threads (read-only: an Interpolator keeps the threads it was built with).")
       .def_property_readonly("num_vertices", &Interpolator::num_vertices)
       .def_property_readonly("num_shapes", &Interpolator::num_shapes);
+  bind_joints(cls);
 }
 
 }  // namespace bdinterp::bindings
