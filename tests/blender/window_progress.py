@@ -67,6 +67,7 @@ def steps(out):
         if text and text not in result["seen"]:
             result["seen"].append(text)
             if "shot" not in result and not text.startswith("Baking 0 "):
+                steps_done()  # Blender 3.4's screenshot crashes while another Python thread runs
                 with bpy.context.temp_override(window=window):
                     bpy.ops.screen.screenshot(filepath=out)
                 result["shot"] = out
@@ -75,6 +76,14 @@ def steps(out):
     result["keys"] = len(objs[0].data.shape_keys.key_blocks)
     result["after"] = operators.progress_text()
     yield from torn(objs, window, area, main)
+
+
+def steps_done():
+    """Waits for the bake's step in flight (its thread): no step starts while this callback runs."""
+    import threading
+    for thread in threading.enumerate():
+        if thread is not threading.main_thread() and thread.daemon:
+            thread.join(60)
 
 
 def torn(objs, window, area, main):
