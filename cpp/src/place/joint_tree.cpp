@@ -238,7 +238,7 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
 // two pieces whose fixed points lie inside them, the one that turns less leaves less to the path its
 // tree's root takes, which two keys do not fix); a piece that only travels (turns by no more than
 // kPinGap) ranks 0.
-JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& grid, int p, int base, size_t k) {
+JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& shape, int p, int base, size_t k) {
   std::vector<RigidMotion> own;
   double turn = 0;
   for (size_t i = 0; i < k; ++i) {
@@ -247,8 +247,8 @@ JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& gri
   }
   Eigen::Vector2d q;
   if (turn <= Joints::kPinGap || !pin_guess(own, q)) return {p, RootReason::Travels, 0.0, Eigen::Vector2d::Zero()};
-  const double reach = Joints::kPinReach * grid.diagonal();
-  return {p, RootReason::Turns, grid.outside(q, 10 * reach) / reach + turn / kPi, q};
+  const double reach = Joints::kPinReach * shape.diagonal();
+  return {p, RootReason::Turns, shape.outside(q, 10 * reach) / reach + turn / kPi, q};
 }
 
 // Roots: the anchored piece alone in its tree (so the anchor holds); elsewhere every still piece

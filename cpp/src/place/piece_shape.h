@@ -50,7 +50,6 @@ class PieceShape {
   bool in_box(const Eigen::Vector2d& q) const {
     return (q.array() >= lo_.array()).all() && (q.array() <= hi_.array()).all();
   }
-  Eigen::AlignedBox2d box() const { return {lo_, hi_}; }
   // How far q lies from the bounding box (0 inside it).
   double box_distance(const Eigen::Vector2d& q) const {
     return (lo_ - q).cwiseMax(q - hi_).cwiseMax(0.0).norm();
