@@ -46,16 +46,17 @@ std::vector<Positions> local_positions(const std::vector<Positions>& shapes, con
   return local;
 }
 
-// One plan per piece of the solved mesh; anchor.vertex is global (-1: none).
+// One plan per piece of the solved mesh; anchor.vertex is global (-1: none); joints: each with its
+// outline for the joints.
 std::vector<std::unique_ptr<const PiecePlan>> plan_pieces(std::vector<Piece> pieces, const std::vector<Positions>& unit,
-                                                          const Anchor& anchor, int base) {
+                                                          const Anchor& anchor, int base, bool joints) {
   const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
   std::vector<std::unique_ptr<const PiecePlan>> plans;
   for (Piece& p : pieces) {
     const std::vector<Positions> local = local_positions(unit, p);
     const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
-    plans.push_back(std::make_unique<const PiecePlan>(std::move(p), local, base, av, still));
+    plans.push_back(std::make_unique<const PiecePlan>(std::move(p), local, base, av, still, joints));
   }
   return plans;
 }
@@ -90,13 +91,13 @@ std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<cons
                                           const std::vector<Positions>& unit, double size, const Anchor& anchor,
                                           const InterpolatorOptions& options, const std::vector<detail::GivenJoint>& given) {
   if (!options.joints || plans.size() < 2) return nullptr;
-  std::vector<JointPiece> parts;
+  detail::PieceShapes parts;
   int anchored = -1;  // the piece of a vertex anchor roots its tree, so the anchor holds
   for (const auto& p : plans) {
     const auto& vs = p->piece.vertices;
     if (anchor.vertex >= 0 && std::find(vs.begin(), vs.end(), anchor.vertex) != vs.end())
       anchored = static_cast<int>(parts.size());
-    parts.push_back({&vs, &p->piece.mesh, &p->anchor.base(), &p->frames});
+    parts.push_back(&*p->shape);
   }
   return std::make_unique<const Joints>(unit, options.base, size, parts, anchored, given);
 }
@@ -152,7 +153,8 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     cut = std::make_unique<const Mesh>(folds->region().rest, num_vertices_);
     pieces = split_into_pieces(*cut);  // fold-free in every input: their orientation is checked
   }
-  plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base);
+  const bool joined = options.joints && pieces.size() > 1;
+  plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base, joined);
   // The joints read the pieces' meshes and base shapes: before the solvers' workspaces evict them.
   std::unique_ptr<const Joints> joints =
       join_pieces(plans_, unit, base_size_, anchor, options, given_joints(plans_, num_vertices_, options, offset_, scale_));

@@ -88,10 +88,12 @@ class HoledSolver final : public PieceSolver {
 
 }  // namespace
 
-PiecePlan::PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still)
+PiecePlan::PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still,
+                     bool joints)
     : piece(std::move(p)),
       anchor(piece.mesh, local_shapes[base], anchor_vertex),
       mirrored(doubled_total_area(local_shapes[base], piece.mesh.faces()) < 0) {
+  if (joints) shape.emplace(JointPiece{&piece.vertices, &piece.mesh, &anchor.base(), &frames});
   // A holed piece flattens and lays out in its HoleSolver: no disk plan or layout for it.
   if (piece.mesh.boundary_loops().size() > 1) {
     holes = std::make_unique<const HoleSolver>(piece.mesh, local_shapes[base]);

@@ -7,6 +7,7 @@
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include "place/anchor_frame.h"
@@ -14,6 +15,7 @@
 #include "flatten/holes.h"
 #include "layout/layout.h"
 #include "mesh/mesh.h"
+#include "place/piece_shape.h"
 #include "flatten/warm_start.h"
 
 namespace bdinterp::detail {
@@ -29,12 +31,17 @@ struct PiecePlan {
   bool mirrored;               // the base shape is clockwise: lay out counter-clockwise, then reflect
   std::unique_ptr<const HoleSolver> holes;  // set for pieces with holes (more than one boundary loop)
   int geodesic_base = -1;      // blend_frames: the anchor on the motions' geodesic from this input
+  // The piece's outline for the joints (set when asked for): it points into this plan, which is
+  // therefore never moved; its queries are not thread-safe (only the Joints' constructor makes them).
+  std::optional<detail::PieceShape> shape;
 
   // local_shapes: every input's positions of the piece's vertices (its local order); base: the
   // domain shape; anchor_vertex: the anchor's local index, -1 for none; still: anchor on the parts
   // that do not move between the inputs (still.h; the default anchor, also the point an anchor path
-  // without a vertex moves).
-  PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still);
+  // without a vertex moves); joints: make `shape`.
+  PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still, bool joints);
+  PiecePlan(const PiecePlan&) = delete;
+  PiecePlan& operator=(const PiecePlan&) = delete;
 };
 
 // What one piece adds to its frame's statistics.

@@ -30,6 +30,7 @@ RigidMotion motion(const JointPiece& p, int base, size_t i) {
 // Per input, the child's motion relative to its parent: mp^-1 after mc.
 std::vector<RigidMotion> relative_motions(const JointPiece& parent, const JointPiece& child, int base) {
   std::vector<RigidMotion> rel;
+  rel.reserve(parent.frames->size());
   for (size_t i = 0; i < parent.frames->size(); ++i) {
     const RigidMotion mp = motion(parent, base, i), mc = motion(child, base, i);
     const RigidMotion back{-mp.angle, Eigen::Rotation2Dd(-mp.angle) * -mp.shift};
@@ -189,12 +190,12 @@ bool classify(const std::vector<Positions>& shapes, int base, double size, const
 }
 
 // How far each piece's anchor moves from the base in any input (turn x size + shift).
-std::vector<double> piece_moves(const std::vector<JointPiece>& pieces, int base, size_t k, double size) {
+std::vector<double> piece_moves(const PieceShapes& pieces, int base, size_t k, double size) {
   std::vector<double> moves(pieces.size(), 0.0);
   for (size_t p = 0; p < pieces.size(); ++p) {
-    const Eigen::Vector2d at = pieces[p].frames->at(static_cast<size_t>(base)).point;
+    const Eigen::Vector2d at = pieces[p]->piece().frames->at(static_cast<size_t>(base)).point;
     for (size_t i = 0; i < k; ++i) {
-      const RigidMotion m = motion(pieces[p], base, i);
+      const RigidMotion m = motion(pieces[p]->piece(), base, i);
       moves[p] = std::max(moves[p], std::abs(m.angle) * size + (m(at) - at).norm());
     }
   }
@@ -238,11 +239,12 @@ std::vector<JointEdge> orient(int n, const std::vector<Candidate>& chosen, const
 // two pieces whose fixed points lie inside them, the one that turns less leaves less to the path its
 // tree's root takes, which two keys do not fix); a piece that only travels (turns by no more than
 // kPinGap) ranks 0.
-JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& shape, int p, int base, size_t k) {
+JointRoot root_rank(const PieceShape& shape, int p, int base, size_t k) {
   std::vector<RigidMotion> own;
+  own.reserve(k);
   double turn = 0;
   for (size_t i = 0; i < k; ++i) {
-    own.push_back(motion(pieces[p], base, i));
+    own.push_back(motion(shape.piece(), base, i));
     turn = std::max(turn, std::abs(own.back().angle));
   }
   Eigen::Vector2d q;
@@ -256,7 +258,7 @@ JointRoot root_rank(const std::vector<JointPiece>& pieces, const PieceShape& sha
 // a point inside it (root_rank; ties: the piece that moves least), so that a chain joined to
 // nothing still turns about its shoulder, not about its hand.
 std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int base,
-                                    const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
+                                    const PieceShapes& pieces,
                                     int root, double size, std::vector<int>& up) {
   const int n = static_cast<int>(pieces.size());
   const std::vector<double> moves = piece_moves(pieces, base, shapes.size(), size);
@@ -272,7 +274,7 @@ std::vector<JointRoot> choose_roots(const std::vector<Positions>& shapes, int ba
   for (int p = 0; p < n; ++p) {
     const int tree = find_set(up, p);
     if (rooted[tree]) continue;
-    const JointRoot r = root_rank(pieces, piece_shapes[p], p, base, shapes.size());
+    const JointRoot r = root_rank(*pieces[p], p, base, shapes.size());
     JointRoot& b = best[tree];
     if (b.piece < 0 || r.fit < b.fit || (r.fit == b.fit && moves[p] < moves[b.piece])) b = r;
   }
@@ -302,15 +304,14 @@ double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShap
 }
 
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base, double size,
-                                       const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
-                                       int root, std::vector<JointRoot>& roots) {
+                                       const PieceShapes& pieces, int root, std::vector<JointRoot>& roots) {
   const int n = static_cast<int>(pieces.size());
   std::vector<Candidate> candidates;
   for (int a = 0; a < n; ++a)
     for (int b = a + 1; b < n; ++b) {
-      if (!piece_shapes[a].boxes_meet(piece_shapes[b], pin_reach(piece_shapes[a], piece_shapes[b]))) continue;
+      if (!pieces[a]->boxes_meet(*pieces[b], pin_reach(*pieces[a], *pieces[b]))) continue;
       Candidate c;
-      if (!classify(shapes, base, size, piece_shapes[a], piece_shapes[b], c)) continue;
+      if (!classify(shapes, base, size, *pieces[a], *pieces[b], c)) continue;
       c.edge.parent = a, c.edge.child = b;
       candidates.push_back(c);
     }
@@ -324,16 +325,16 @@ std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int
     const int ra = find_set(up, c.edge.parent), rb = find_set(up, c.edge.child);
     if (ra != rb) up[ra] = rb, chosen.push_back(c);
   }
-  roots = choose_roots(shapes, base, pieces, piece_shapes, root, size, up);
+  roots = choose_roots(shapes, base, pieces, root, size, up);
   std::vector<int> sources;
   for (const JointRoot& r : roots) sources.push_back(r.piece);
   return orient(n, chosen, sources);
 }
 
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base, double size,
-                                        const std::vector<GivenJoint>& links, const std::vector<PieceShape>& piece_shapes,
+                                        const std::vector<GivenJoint>& links, const PieceShapes& pieces,
                                         std::vector<JointRoot>& roots) {
-  const int n = static_cast<int>(piece_shapes.size());
+  const int n = static_cast<int>(pieces.size());
   std::vector<int> parent_link(n, -1), path_link(n, -1);
   for (size_t k = 0; k < links.size(); ++k) {
     std::ostringstream s;
@@ -366,7 +367,7 @@ std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, in
       depth[q] = 0;
       if (k < 0) continue;
       const GivenJoint& g = links[k];
-      const double gap = joint_gap(shapes, base, piece_shapes[g.parent], piece_shapes[g.child], g.point, faces);
+      const double gap = joint_gap(shapes, base, *pieces[g.parent], *pieces[g.child], g.point, faces);
       out.push_back({g.parent, g.child, g.point, JointKind::Given, gap / size, faces});
     }
   }

@@ -17,22 +17,19 @@ Eigen::Vector2d Joints::Site::at(const Eigen::Ref<const Positions>& X) const {
   return p;
 }
 
-Joints::Joints(const std::vector<Positions>& shapes, int base, double size, const std::vector<JointPiece>& pieces,
+Joints::Joints(const std::vector<Positions>& shapes, int base, double size, const detail::PieceShapes& pieces,
                int root, const std::vector<detail::GivenJoint>& given)
     : pieces_(pieces) {
   const auto start = std::chrono::steady_clock::now();
-  std::vector<PieceShape> piece_shapes;
-  piece_shapes.reserve(pieces_.size());  // each keeps a reference to its piece
-  for (const JointPiece& p : pieces_) piece_shapes.emplace_back(p);
   const std::vector<JointEdge> tree = given.empty()
-                                          ? detail::find_joint_tree(shapes, base, size, pieces_, piece_shapes, root, roots_)
-                                          : detail::given_joint_tree(shapes, base, size, given, piece_shapes, roots_);
+                                          ? detail::find_joint_tree(shapes, base, size, pieces_, root, roots_)
+                                          : detail::given_joint_tree(shapes, base, size, given, pieces_, roots_);
   for (const detail::GivenJoint& g : given)
-    if (g.parent < 0) paths_.push_back({g.child, site(piece_shapes[g.child], g.point), {}});
+    if (g.parent < 0) paths_.push_back({g.child, site(*pieces_[g.child], g.point), {}});
   for (Path& path : paths_)
     for (const Positions& X : shapes) path.point.push_back(path.at.at(X));
   joints_.reserve(tree.size());
-  for (const JointEdge& e : tree) add_joint(shapes, base, e, piece_shapes[e.parent], piece_shapes[e.child]);
+  for (const JointEdge& e : tree) add_joint(shapes, base, e, *pieces_[e.parent], *pieces_[e.child]);
   seconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -47,8 +44,9 @@ Joints::Site Joints::site(const PieceShape& piece, const Eigen::Vector2d& q, int
 void Joints::add_joint(const std::vector<Positions>& shapes, int base, const JointEdge& edge,
                        const PieceShape& in_parent, const PieceShape& in_child) {
   Joint j{edge, site(in_parent, edge.point, edge.faces[0]), site(in_child, edge.point, edge.faces[1]), {}, {}, {}};
-  const std::vector<Frame2>&P = *pieces_[edge.parent].frames, &C = *pieces_[edge.child].frames;
+  const std::vector<Frame2>&P = *in_parent.piece().frames, &C = *in_child.piece().frames;
   const size_t b = static_cast<size_t>(base);
+  j.parent_angle.reserve(shapes.size()), j.relative.reserve(shapes.size()), j.offset.reserve(shapes.size());
   for (size_t i = 0; i < shapes.size(); ++i) {
     j.parent_angle.push_back(P[i].angle);
     // The keys' turn of the child against its parent, the short way (a joint does not wind up).
@@ -64,7 +62,7 @@ void Joints::apply(const Eigen::VectorXd& w, std::vector<double>& angle, Eigen::
     Eigen::Vector2d to = Eigen::Vector2d::Zero();
     for (Eigen::Index i = 0; i < w.size(); ++i) to += w[i] * path.point[static_cast<size_t>(i)];
     const Eigen::RowVector2d shift = (to - path.at.at(out)).transpose();
-    for (int v : *pieces_[path.piece].vertices) out.row(v) += shift;
+    for (int v : *pieces_[path.piece]->piece().vertices) out.row(v) += shift;
   }
   for (const Joint& j : joints_) {
     const int parent = j.edge.parent, child = j.edge.child;
@@ -79,7 +77,7 @@ void Joints::apply(const Eigen::VectorXd& w, std::vector<double>& angle, Eigen::
     const Eigen::Matrix2d R = Eigen::Rotation2Dd(turn - angle[child]).toRotationMatrix();
     angle[child] = turn;
     const Eigen::Vector2d from = j.in_child.at(out), to = j.in_parent.at(out) + offset;
-    for (int v : *pieces_[child].vertices) out.row(v) = (R * (out.row(v).transpose() - from) + to).transpose();
+    for (int v : *pieces_[child]->piece().vertices) out.row(v) = (R * (out.row(v).transpose() - from) + to).transpose();
   }
 }
 

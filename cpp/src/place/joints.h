@@ -49,13 +49,12 @@ struct GivenJoint {
 // (root >= 0), else the piece whose own motion is best a turn about a point inside it; `roots`
 // gets each tree's root (a piece in no joint is a tree of its own).
 std::vector<JointEdge> find_joint_tree(const std::vector<Positions>& shapes, int base, double size,
-                                       const std::vector<JointPiece>& pieces, const std::vector<PieceShape>& piece_shapes,
-                                       int root, std::vector<JointRoot>& roots);
+                                       const PieceShapes& pieces, int root, std::vector<JointRoot>& roots);
 // The given links in tree order, parents first (InvalidInput naming link k for two parents of one
 // piece, a link within one piece or a cycle); the fit is measured as for a pin. `roots` gets the
 // pieces with no parent (RootReason::Path for those a link with parent -1 gives a path).
 std::vector<JointEdge> given_joint_tree(const std::vector<Positions>& shapes, int base, double size,
-                                        const std::vector<GivenJoint>& links, const std::vector<PieceShape>& piece_shapes,
+                                        const std::vector<GivenJoint>& links, const PieceShapes& pieces,
                                         std::vector<JointRoot>& roots);
 // The largest gap over the inputs between where the two pieces' triangles carry q (q located in
 // each, extended by the nearest triangle's affine map outside it); `faces` gets the two faces.
@@ -68,7 +67,7 @@ class Joints {
   // shapes: the inputs (#V by 2, the Interpolator's normalised frame); base: the base input;
   // size: its bounding box diagonal, which the tolerances scale. given empty: the tree found (find_joint_tree; root >= 0 is the piece holding a vertex anchor);
   // else the given links (points in the normalised frame).
-  Joints(const std::vector<Positions>& shapes, int base, double size, const std::vector<JointPiece>& pieces, int root,
+  Joints(const std::vector<Positions>& shapes, int base, double size, const detail::PieceShapes& pieces, int root,
          const std::vector<detail::GivenJoint>& given);
 
   int size() const { return static_cast<int>(joints_.size()); }
@@ -128,7 +127,7 @@ class Joints {
   std::vector<Joint> joints_;
   std::vector<Path> paths_;
   std::vector<detail::JointRoot> roots_;
-  const std::vector<JointPiece> pieces_;
+  const detail::PieceShapes pieces_;
   double seconds_ = 0;
 };
 

@@ -18,22 +18,23 @@ double squared_distance(const Eigen::Vector2d& q, const Eigen::Vector2d& a, cons
 
 PieceShape::PieceShape(const JointPiece& piece) : piece_(piece) {
   const std::vector<std::vector<int>>& loops = piece.mesh->boundary_loops();
-  Eigen::AlignedBox2d box;
-  for (int l = 0; l < static_cast<int>(loops.size()); ++l) {
-    const int n = static_cast<int>(loops[static_cast<size_t>(l)].size());
-    for (int k = 0; k < n; k += kRunEdges) {
-      Run run{Eigen::AlignedBox2d(), l, k, std::min(n, k + kRunEdges)};
-      for (int i = k; i <= run.end; ++i) run.box.extend(point(l, i));
-      box.extend(run.box);
+  size_t points = 0;
+  for (const std::vector<int>& loop : loops) points += loop.size() + 1;
+  outline_vertex_.reserve(points), outline_.reserve(points), runs_.reserve(points / kRunEdges + loops.size());
+  for (const std::vector<int>& loop : loops) {
+    const int first = static_cast<int>(outline_.size()), n = static_cast<int>(loop.size());
+    outline_vertex_.insert(outline_vertex_.end(), loop.begin(), loop.end());
+    outline_vertex_.push_back(loop.front());  // closed: the loop's first vertex again at its end
+    for (int k = first; k <= first + n; ++k) outline_.push_back(piece.base->row(outline_vertex_[k]).transpose());
+    for (int k = first; k < first + n; k += kRunEdges) {
+      Run run{Eigen::AlignedBox2d(outline_[static_cast<size_t>(k)]), k, std::min(first + n, k + kRunEdges)};
+      for (int i = k + 1; i <= run.end; ++i) run.box.extend(outline_[static_cast<size_t>(i)]);
       runs_.push_back(run);
     }
   }
+  Eigen::AlignedBox2d box;
+  for (const Run& r : runs_) box.extend(r.box);
   lo_ = box.min(), hi_ = box.max();
-}
-
-Eigen::Vector2d PieceShape::point(int loop, int k) const {
-  const std::vector<int>& l = piece_.mesh->boundary_loops()[static_cast<size_t>(loop)];
-  return piece_.base->row(l[static_cast<size_t>(k) % l.size()]).transpose();
 }
 
 Eigen::Vector3d PieceShape::barycentric(const Eigen::Vector2d& q, int f) const {
@@ -115,16 +116,15 @@ double PieceShape::outside(const Eigen::Vector2d& q, double within) const {
 
 int PieceShape::winding(const Eigen::Vector2d& q, double margin2, bool& near) const {
   int winding = 0;  // signed crossings of the ray from q to +x
-  for (const Run& r : runs_) {
+  const double m = std::sqrt(margin2);
+  for (const Run& r : runs_) {  // a run neither near q nor crossed by the ray first, in three comparisons
+    if (q.y() < r.box.min().y() - m || q.y() > r.box.max().y() + m || q.x() > r.box.max().x() + m) continue;
     near = r.box.squaredExteriorDistance(q) < margin2;
-    if (!near && (q.y() < r.box.min().y() || q.y() > r.box.max().y() || q.x() >= r.box.max().x())) continue;
-    Eigen::Vector2d a = point(r.loop, r.begin);
     for (int k = r.begin; k < r.end; ++k) {
-      const Eigen::Vector2d b = point(r.loop, k + 1);
+      const Eigen::Vector2d &a = outline_[static_cast<size_t>(k)], &b = outline_[static_cast<size_t>(k) + 1];
       if (near && squared_distance(q, a, b) < margin2) return 0;
       if ((a.y() <= q.y()) != (b.y() <= q.y()) && a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y()) > q.x())
         winding += b.y() > a.y() ? 1 : -1;
-      a = b;
     }
   }
   near = false;
@@ -133,21 +133,23 @@ int PieceShape::winding(const Eigen::Vector2d& q, double margin2, bool& near) co
 
 std::array<int, 2> PieceShape::nearest_edge(const Eigen::Vector2d& q, double within, double& distance) const {
   double least = within * within;  // squared distances, one root at the end
-  std::array<int, 2> best = {-1, -1};
-  for (const Run& r : runs_) {
-    if (r.box.squaredExteriorDistance(q) >= least) continue;
-    Eigen::Vector2d a = point(r.loop, r.begin);
+  int best = -1;
+  const auto edges = [&](const Run& r) {
     for (int k = r.begin; k < r.end; ++k) {
-      const Eigen::Vector2d b = point(r.loop, k + 1);
-      const double d = squared_distance(q, a, b);
-      if (d < least) least = d, best = {r.loop, k};
-      a = b;
+      const double d = squared_distance(q, outline_[static_cast<size_t>(k)], outline_[static_cast<size_t>(k) + 1]);
+      if (d < least || (d == least && k < best)) least = d, best = k;  // ties: the first edge
     }
-  }
-  distance = best[0] < 0 ? within : std::sqrt(least);
-  if (best[0] < 0) return best;
-  const std::vector<int>& loop = piece_.mesh->boundary_loops()[static_cast<size_t>(best[0])];
-  return {loop[static_cast<size_t>(best[1])], loop[static_cast<size_t>(best[1] + 1) % loop.size()]};
+  };
+  // The run whose box is nearest first: its edges bound the distance the other runs must beat.
+  const auto first = std::min_element(runs_.begin(), runs_.end(), [&](const Run& a, const Run& b) {
+    return a.box.squaredExteriorDistance(q) < b.box.squaredExteriorDistance(q);
+  });
+  if (first != runs_.end() && first->box.squaredExteriorDistance(q) < least) edges(*first);
+  for (const Run& r : runs_)
+    if (&r != &*first && r.box.squaredExteriorDistance(q) <= least) edges(r);
+  distance = best < 0 ? within : std::sqrt(least);
+  if (best < 0) return {-1, -1};
+  return {outline_vertex_[static_cast<size_t>(best)], outline_vertex_[static_cast<size_t>(best) + 1]};
 }
 
 int PieceShape::edge_face(const std::array<int, 2>& edge) const {

@@ -82,16 +82,14 @@ class PieceShape {
   const JointPiece& piece() const { return piece_; }
 
  private:
-  // A run of consecutive edges of outline loop `loop` (edge k joins its vertices k and k + 1) and
-  // their bounding box: queries read the edges of the runs whose box can matter (a one-level
-  // bounding volume hierarchy, made in one pass over the outline).
+  // A run of consecutive outline edges (edge k joins outline_[k] and outline_[k + 1]) within one
+  // loop, and their bounding box: queries read the edges of the runs whose box can matter (a
+  // one-level bounding volume hierarchy, made in one pass over the outline).
   struct Run {
     Eigen::AlignedBox2d box;
-    int loop, begin, end;
+    int begin, end;
   };
   static constexpr int kRunEdges = 8;
-  // Vertex k (mod its length) of outline loop `loop`, in the base shape.
-  Eigen::Vector2d point(int loop, int k) const;
   // Faces a walk from the last face found may cross before it starts again from the outline.
   static constexpr int kNearWalk = 8;
   Eigen::Vector2d corner(int f, int c) const { return piece_.base->row(piece_.mesh->faces()(f, c)).transpose(); }
@@ -116,9 +114,18 @@ class PieceShape {
 
   const JointPiece piece_;  // four pointers, kept by value
   Eigen::Vector2d lo_, hi_;
+  // The outline's loops one after another, each closed by its first point again, in the base
+  // shape (read in order, where the loops would be read through the mesh's vertex order), and
+  // their local vertices.
+  std::vector<Eigen::Vector2d> outline_;
+  std::vector<int> outline_vertex_;
   std::vector<Run> runs_;
   mutable int hint_ = 0;  // the face the last query ended in: the next walk starts there
 };
+
+// The pieces of a character as the joints read them (each made with its piece's plan, while the
+// piece's base shape is in the cache).
+using PieceShapes = std::vector<const PieceShape*>;
 
 }  // namespace detail
 }  // namespace bdinterp
