@@ -1,6 +1,6 @@
 // Point location in one piece of a cut-out character (place/piece_shape.h) against brute force over
 // every face and every outline edge, on pieces whose walks the outline stops: an L (a concave
-// outline) and an annulus (a hole).
+// outline), a strip wound twice, an annulus (a hole) and a U whose walks end in the search.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -165,6 +165,31 @@ TEST(PieceShape, AVertexOnTheOutlineIsNotInside) {
   for (const std::vector<int>& loop : p.mesh.boundary_loops())
     for (int v : loop) EXPECT_FALSE(shape.contains(p.base.row(v).transpose())) << "vertex " << v;
   EXPECT_TRUE(shape.contains(Eigen::Vector2d(0.25, 0.25)));
+}
+
+// A U of five triangles whose notch is a V with one vertex at its foot: that vertex's fan reaches
+// from one arm round the foot to the other, so a walk from it may start in the wrong arm, meet the
+// notch and end in the search of every face. Both mirror images, every point of both arms.
+TEST(PieceShape, AWalkTheNotchStopsEndsInTheSearch) {
+  for (const double mirror : {1.0, -1.0}) {
+    Positions V(7, 2);
+    V << 0, 0, 2, 0, 2, 2, 1.1, 2, 1, 0.2, 0.9, 2, 0, 2;
+    Faces F(5, 3);
+    F << 0, 4, 5, 0, 5, 6, 0, 1, 4, 1, 3, 4, 1, 2, 3;
+    V.col(0) = (mirror * (V.col(0).array() - 1) + 1).matrix();
+    if (mirror < 0) F.col(1).swap(F.col(2));  // counter-clockwise again
+    const TestPiece p(V, F);
+    for (double y = 0.3; y < 1.95; y += 0.05)
+      for (const double x : {0.15, 0.6, 0.85, 1.15, 1.4, 1.85}) {
+        const Eigen::Vector2d q(x, y);
+        if (best_weight(p, q) < detail::kInside) continue;
+        const PieceShape shape(p.joint());  // a fresh one each time, as the joints first meet a piece
+        int face;
+        Eigen::Vector3d bary;
+        ASSERT_GE(shape.locate(q, face, bary), -detail::kInside) << q.transpose();
+        EXPECT_NEAR((bary - weights(p, q, face)).norm(), 0, 1e-12);
+      }
+  }
 }
 
 }  // namespace
