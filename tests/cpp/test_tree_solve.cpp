@@ -1,5 +1,6 @@
 // The triangular solves split along the elimination tree (src/detail/tree_solve.h): against dense
-// and Eigen solves, on hand-built factors of every shape and on CHOLMOD's factors of mesh systems.
+// and Eigen solves, on hand-built factors of every shape and on CHOLMOD's factors of mesh systems
+// (a supernodal one made simplicial too).
 #include <gtest/gtest.h>
 
 #include <Eigen/Dense>
@@ -196,6 +197,47 @@ TEST(TreeSolve, MeshSystemsSplitOverTheCoresAndMatchEigen) {
       if (threads == 0 && first.size() == 0) first = X;
       if (threads == 0) EXPECT_EQ((X - first).cwiseAbs().maxCoeff(), 0.0);  // whoever runs the chunks
     }
+  }
+}
+
+// The 7-point Laplacian of a k x k x k grid plus the identity, lower triangle by columns: a factor
+// dense enough (flops / nnz(L) far above CHOLMOD's supernodal switch) to be made supernodally.
+Eigen::SparseMatrix<double> cube_laplacian(int k) {
+  std::vector<Eigen::Triplet<double>> t;
+  const auto at = [k](int x, int y, int z) { return (z * k + y) * k + x; };
+  for (int z = 0; z < k; ++z)
+    for (int y = 0; y < k; ++y)
+      for (int x = 0; x < k; ++x) {
+        t.emplace_back(at(x, y, z), at(x, y, z), 7.0);
+        if (x > 0) t.emplace_back(at(x, y, z), at(x - 1, y, z), -1.0);
+        if (y > 0) t.emplace_back(at(x, y, z), at(x, y - 1, z), -1.0);
+        if (z > 0) t.emplace_back(at(x, y, z), at(x, y, z - 1), -1.0);
+      }
+  Eigen::SparseMatrix<double> L(k * k * k, k * k * k);
+  L.setFromTriplets(t.begin(), t.end());
+  L.makeCompressed();
+  return L;
+}
+
+TEST(TreeSolve, ASupernodalFactorIsSolvedAsASimplicialOneOverTheCores) {
+  const Eigen::SparseMatrix<double> lower = cube_laplacian(24);
+  const int n = static_cast<int>(lower.rows());
+  std::vector<int> col_ptr(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
+  std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
+  SparseCholesky chol(n, col_ptr, rows);
+  ASSERT_GT(chol.factor_flops() / (chol.solve_flops() / 4), 2 * 140.0);  // CHOLMOD goes supernodal
+  const Eigen::VectorXd b = Eigen::VectorXd::Random(n);
+  for (const double shift : {0.0, 5.0}) {  // the second factorisation starts from the analysis again
+    std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol.values());
+    for (int j = 0; j < n; ++j) chol.values()[col_ptr[j]] += shift;  // diagonal first in each column
+    chol.factorize();
+    EXPECT_TRUE(chol.factor_is_ll());
+    EXPECT_EQ(chol.solve_split(2).chunks, 2);  // the elimination-tree split: a simplicial factor
+    Eigen::VectorXd x(n), Ax(n);
+    chol.solve(b.data(), x.data(), 1);
+    chol.multiply(chol.values(), x.data(), Ax.data());
+    EXPECT_LT((Ax - b).norm(), 1e-12 * b.norm()) << "shift " << shift;
+    EXPECT_GT(x.norm(), 0.1 * b.norm() / (7.0 + shift + 6.0));
   }
 }
 

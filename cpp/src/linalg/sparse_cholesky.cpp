@@ -27,7 +27,9 @@ void configure(cholmod_common& common, int n) {
   // 31 ms simplicial, interleaved); 100k factor 151 / 248 ms, solve 15.8 / 10.5 ms; 200k 305 / 630,
   // 36 / 24 ms. So simplicial up to ~100k rows (cold frames about even there), supernodal beyond.
   // Simplicial solves also split over the cores (tree_solve.h: 48k rows, 2 cores, 1 column 1.4-2.3
-  // ms against CHOLMOD's 2.8-3.8 ms).
+  // ms against CHOLMOD's 2.8-3.8 ms), so factorize() makes a supernodal factor simplicial for its
+  // solves (it keeps the supernodes' explicit zeros: +21 % entries at 100k rows). Warm blends of a
+  // 100k-vertex pose grid: 96 -> 61 ms, of a 200k one 243 -> 156 ms; cold ones unchanged.
   common.supernodal_switch = 140;
   // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
   // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
@@ -188,12 +190,22 @@ bool SparseCholesky::factor_is_ll() const { return impl_->factored && impl_->L->
 void SparseCholesky::factorize() {
   Impl& m = *impl_;
   m.factored = false;
+  const cholmod_factor* symbolic = analysis_->impl_->L;
+  if (symbolic->is_super && !m.L->is_super) {  // the last factor was made simplicial: supernodal again
+    cholmod_free_factor(&m.L, &m.common.c);
+    m.L = cholmod_copy_factor(const_cast<cholmod_factor*>(symbolic), &m.common.c);
+    check(m.common.c, "copy");
+  }
   cholmod_factorize(&m.A, m.L, &m.common.c);
   if (m.common.c.status == CHOLMOD_NOT_POSDEF) {
     throw SolverError("matrix is not positive definite (CHOLMOD stopped at column " +
                       std::to_string(m.L->minor) + ")");
   }
   check(m.common.c, "factorize");
+  if (m.L->is_super) {  // solved as a simplicial L L' (configure(): the solves split over the cores)
+    cholmod_change_factor(CHOLMOD_REAL, 1, 0, 1, 1, m.L, &m.common.c);
+    check(m.common.c, "change_factor");
+  }
   m.factored = true;
 }
 
@@ -224,8 +236,8 @@ void SparseCholesky::multiply(const double* values, const double* x, double* y) 
 }
 
 namespace {
-// The factor as TreeSolve reads it; n = 0 unless simplicial L L' (supernodal factors above
-// ~100k rows keep CHOLMOD's solve).
+// The factor as TreeSolve reads it; n = 0 unless simplicial L L' (a factor that stays supernodal
+// keeps CHOLMOD's solve).
 detail::FactorView factor_view(const cholmod_factor& L) {
   if (L.is_super || !L.is_ll || L.xtype != CHOLMOD_REAL || L.itype != CHOLMOD_INT) return {};
   return {static_cast<int>(L.n), static_cast<const int*>(L.p), static_cast<const int*>(L.i),

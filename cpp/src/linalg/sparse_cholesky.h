@@ -65,8 +65,9 @@ class SparseCholesky {
   // The pattern (n + 1 column pointers, row indices).
   const int* column_pointers() const { return analysis_->column_pointers().data(); }
   const int* row_indices() const { return analysis_->row_indices().data(); }
-  // Numeric factorisation of the current values. Throws SolverError if the matrix is not positive
-  // definite (naming the failing column) or CHOLMOD reports an error; the factor is then invalid.
+  // Numeric factorisation of the current values (supernodal on dense enough factors, then kept as
+  // a simplicial L L' for the solves). Throws SolverError if the matrix is not positive definite
+  // (naming the failing column) or CHOLMOD reports an error; the factor is then invalid.
   void factorize();
   // A valid factorisation is at hand (factorize() succeeded since the last failure).
   bool factored() const;
