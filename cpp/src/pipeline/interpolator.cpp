@@ -157,7 +157,8 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
   plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base, joined);
   // The joints read the pieces' meshes and base shapes: before the solvers' workspaces evict them.
   std::unique_ptr<const Joints> joints =
-      join_pieces(plans_, unit, base_size_, anchor, options, given_joints(plans_, num_vertices_, options, offset_, scale_));
+      join_pieces(plans_, unit, base_size_, anchor, options,
+                  given_joints(plans_, num_vertices_, options, offset_, scale_));
   workers_.resize(1);
   for (const auto& plan : plans_) workers_[0].push_back(PieceSolver::make(*plan));
   passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds), std::move(joints),

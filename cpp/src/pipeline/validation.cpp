@@ -117,7 +117,8 @@ std::vector<Positions> Interpolator::normalise(const std::vector<Positions>& sha
   const double extent = any ? (0.5 * hi - 0.5 * lo).maxCoeff() : 0.0;
   scale_ = extent > 0 ? std::ldexp(1.0, std::ilogb(extent)) : 1.0;
   // Rounding is monotone: the normalised base's box is its box moved and scaled.
-  base_size_ = any ? ((base_hi.array() - offset_.array()) / scale_ - (base_lo.array() - offset_.array()) / scale_).matrix().norm() : 0.0;
+  const auto normalised = [&](const Eigen::RowVector2d& x) { return Eigen::RowVector2d((x - offset_) / scale_); };
+  base_size_ = any ? (normalised(base_hi) - normalised(base_lo)).norm() : 0.0;
   std::vector<Positions> unit;
   for (size_t i = 0; i < shapes.size(); ++i) {
     unit.push_back((shapes[i].rowwise() - offset_) / scale_);

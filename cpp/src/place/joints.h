@@ -65,8 +65,9 @@ double joint_gap(const std::vector<Positions>& shapes, int base, const PieceShap
 class Joints {
  public:
   // shapes: the inputs (#V by 2, the Interpolator's normalised frame); base: the base input;
-  // size: its bounding box diagonal, which the tolerances scale. given empty: the tree found (find_joint_tree; root >= 0 is the piece holding a vertex anchor);
-  // else the given links (points in the normalised frame).
+  // size: its bounding box diagonal, which the tolerances scale; pieces: each piece's shape (made
+  // with its plan). given empty: the tree found (find_joint_tree; root >= 0 is the piece holding a
+  // vertex anchor); else the given links (points in the normalised frame).
   Joints(const std::vector<Positions>& shapes, int base, double size, const detail::PieceShapes& pieces, int root,
          const std::vector<detail::GivenJoint>& given);
 
