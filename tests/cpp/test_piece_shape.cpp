@@ -192,5 +192,60 @@ TEST(PieceShape, AWalkTheNotchStopsEndsInTheSearch) {
   }
 }
 
+// A square piece of 3 x 3 cells, side `side`, its lower left corner at `at`.
+TestPiece square(const Eigen::Vector2d& at, double side) {
+  const testing::TestMesh g = testing::jittered_grid(3, 3, side, side, 4);
+  return TestPiece(g.V.rowwise() + at.transpose(), g.F);
+}
+
+// holds() against contains() at the square's vertices and its faces' centroids, squares of four
+// sizes at random places round an L and an annulus: where it holds, every one of them is contained;
+// it holds wherever the square lies farther than its own side from the holder's outline; and not
+// where the holder's outline enters the square though every vertex of the square is contained
+// (the notch's corner, the hole).
+TEST(PieceShape, HoldsOnlyWhatItContainsEverywhere) {
+  const testing::TestMesh a = testing::annulus(6, 48);
+  const std::vector<TestPiece> holders{l_shape(), TestPiece(a.V, a.F)};
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> at(-1.2, 1.2);
+  int held = 0, far = 0;
+  for (const TestPiece& h : holders) {
+    const PieceShape holder(h.joint());
+    for (int k = 0; k < 1500; ++k) {
+      const double side = std::vector<double>{0.02, 0.05, 0.1, 0.3}[static_cast<size_t>(k % 4)];
+      const TestPiece sq = square({at(rng), at(rng)}, side);
+      const PieceShape other(sq.joint());
+      bool all = true;
+      for (Eigen::Index v = 0; v < sq.base.rows(); ++v) all = all && holder.contains(sq.base.row(v).transpose());
+      for (int f = 0; f < sq.mesh.num_faces(); ++f) {
+        Eigen::Vector2d c = Eigen::Vector2d::Zero();
+        for (int j = 0; j < 3; ++j) c += sq.base.row(sq.mesh.faces()(f, j)).transpose() / 3.0;
+        all = all && holder.contains(c);
+      }
+      const bool holds = holder.holds(other);
+      if (holds) ++held;
+      EXPECT_TRUE(!holds || all) << "a square of side " << side << " at " << sq.base.row(0);
+      const Eigen::Vector2d centre = sq.base.colwise().mean().transpose();
+      if (holder.contains(centre) && outline_distance(h, centre) > 1.5 * side) {
+        ++far;
+        EXPECT_TRUE(holds) << "a square of side " << side << " at " << sq.base.row(0);
+      }
+    }
+  }
+  EXPECT_GT(held, 400);
+  EXPECT_GT(far, 300);
+  // The L's notch corner (0.5, 0.5) inside a square whose four corners lie in the L, and the
+  // annulus's hole inside a square whose corners lie in its ring: every vertex is contained.
+  const Faces two = (Faces(2, 3) << 0, 1, 2, 0, 2, 3).finished();
+  const std::vector<std::pair<TestPiece, TestPiece>> entered{
+      {l_shape(), TestPiece((Positions(4, 2) << 0.42, 0.3, 0.7, 0.42, 0.42, 0.7, 0.3, 0.42).finished(), two)},
+      {TestPiece(a.V, a.F), TestPiece((Positions(4, 2) << -0.45, -0.45, 0.45, -0.45, 0.45, 0.45, -0.45, 0.45).finished(), two)}};
+  for (const auto& [h, sq] : entered) {
+    const PieceShape holder(h.joint()), other(sq.joint());
+    for (Eigen::Index v = 0; v < sq.base.rows(); ++v) EXPECT_TRUE(holder.contains(sq.base.row(v).transpose()));
+    EXPECT_FALSE(holder.holds(other));
+  }
+}
+
 }  // namespace
 }  // namespace bdinterp

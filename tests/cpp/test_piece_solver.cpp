@@ -38,7 +38,9 @@ std::unique_ptr<detail::PiecePlan> plan_of(const testing::TestMesh& m, const Pos
   std::vector<Piece> pieces = split_into_pieces(Mesh(m.F, static_cast<int>(m.V.rows())));
   EXPECT_EQ(pieces.size(), 1u);
   const std::vector<Positions> local{rows_of(m.V, pieces[0]), rows_of(T, pieces[0])};
-  return std::make_unique<detail::PiecePlan>(std::move(pieces[0]), local, 0, -1, false, false);
+  auto plan = std::make_unique<detail::PiecePlan>(std::move(pieces[0]), local, 0, -1, false, false);
+  plan->plan_solve(local, 0);
+  return plan;
 }
 
 // Largest | |x_i - x_j|^2 / l2_ij - 1 | over the piece's edges.

@@ -149,6 +149,20 @@ def test_a_knee_drawn_with_a_gap_is_a_pin(biped):
     assert np.linalg.norm(knee[0]["point"] - BONES["shin_l"][1]) < 1e-6
 
 
+def test_an_eye_on_the_head_is_glued_at_its_own_middle_vertex(biped):
+    # An eye lies wholly inside the head: their overlap is the eye itself, so the joint sits at the
+    # eye's vertex nearest the mean of its vertices, whatever the head's triangles under it.
+    ch = biped
+    I = bdinterp.Interpolator([ch.V, posed(ch, POSES["run"], 1.0)], ch.F)
+    first = {int(ch.ranges[k][0]): name for k, name in enumerate(PIECES)}
+    for eye in ("eye_l", "eye_r"):
+        (joint,) = [j for j in I.joints() if first[j["child"]] == eye]
+        assert first[joint["parent"]] == "head" and joint["kind"] == "glued"
+        E = ch.V[ch.ranges[PIECES.index(eye)]]
+        middle = E[np.argmin(np.linalg.norm(E - E.mean(axis=0), axis=1))]
+        assert np.linalg.norm(joint["point"] - middle) < 1e-12
+
+
 def hip(slide):
     """A torso and a thigh hung from a hip the rig translates by `slide` (in the torso's frame)
     while the thigh turns by 60 degrees; returns the character and the bones' in-between."""

@@ -46,24 +46,29 @@ std::vector<Positions> local_positions(const std::vector<Positions>& shapes, con
   return local;
 }
 
-// One plan per piece of the solved mesh; anchor.vertex is global (-1: none); joints: each with its
-// outline for the joints.
-std::vector<std::unique_ptr<const PiecePlan>> plan_pieces(std::vector<Piece> pieces, const std::vector<Positions>& unit,
-                                                          const Anchor& anchor, int base, bool joints) {
+// One plan per piece of the solved mesh, with every input's positions of its vertices (its local
+// order) for plan_solve; anchor.vertex is global (-1: none); joints: each with its outline for
+// the joints.
+struct Plans {
+  std::vector<std::unique_ptr<PiecePlan>> plans;
+  std::vector<std::vector<Positions>> local;
+};
+Plans plan_pieces(std::vector<Piece> pieces, const std::vector<Positions>& unit, const Anchor& anchor, int base,
+                  bool joints) {
   const bool still = anchor.mode == Anchor::Mode::Centroid || (anchor.mode == Anchor::Mode::Path && anchor.vertex < 0);
-  std::vector<std::unique_ptr<const PiecePlan>> plans;
+  Plans out;
   for (Piece& p : pieces) {
-    const std::vector<Positions> local = local_positions(unit, p);
+    out.local.push_back(local_positions(unit, p));
     const auto it = std::find(p.vertices.begin(), p.vertices.end(), anchor.vertex);
     const int av = anchor.vertex >= 0 && it != p.vertices.end() ? static_cast<int>(it - p.vertices.begin()) : -1;
-    plans.push_back(std::make_unique<const PiecePlan>(std::move(p), local, base, av, still, joints));
+    out.plans.push_back(std::make_unique<PiecePlan>(std::move(p), out.local.back(), base, av, still, joints));
   }
-  return plans;
+  return out;
 }
 
 // The given joint links with their pieces and points in the normalised frame (InvalidInput naming
 // the link for a vertex in no piece or a point that is not finite).
-std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<const PiecePlan>>& plans, int num_vertices,
+std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<PiecePlan>>& plans, int num_vertices,
                                              const InterpolatorOptions& options, const Eigen::RowVector2d& offset,
                                              double scale) {
   std::vector<int> piece_of(static_cast<size_t>(num_vertices), -1);
@@ -87,7 +92,7 @@ std::vector<detail::GivenJoint> given_joints(const std::vector<std::unique_ptr<c
 }
 
 // The joints between pieces (joints.h); null with one piece or joints off.
-std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<const PiecePlan>>& plans,
+std::unique_ptr<const Joints> join_pieces(const std::vector<std::unique_ptr<PiecePlan>>& plans,
                                           const std::vector<Positions>& unit, double size, const Anchor& anchor,
                                           const InterpolatorOptions& options, const std::vector<detail::GivenJoint>& given) {
   if (!options.joints || plans.size() < 2) return nullptr;
@@ -154,11 +159,16 @@ Interpolator::Interpolator(const std::vector<Positions>& shapes, const Faces& F,
     pieces = split_into_pieces(*cut);  // fold-free in every input: their orientation is checked
   }
   const bool joined = options.joints && pieces.size() > 1;
-  plans_ = plan_pieces(std::move(pieces), unit, anchor, options.base, joined);
-  // The joints read the pieces' meshes and base shapes: before the solvers' workspaces evict them.
+  Plans planned = plan_pieces(std::move(pieces), unit, anchor, options.base, joined);
+  // The joints read the pieces' meshes and base shapes: before the solvers' plans evict them.
   std::unique_ptr<const Joints> joints =
-      join_pieces(plans_, unit, base_size_, anchor, options,
-                  given_joints(plans_, num_vertices_, options, offset_, scale_));
+      join_pieces(planned.plans, unit, base_size_, anchor, options,
+                  given_joints(planned.plans, num_vertices_, options, offset_, scale_));
+  for (size_t p = 0; p < planned.plans.size(); ++p) {
+    planned.plans[p]->plan_solve(planned.local[p], options.base);
+    planned.local[p].clear();
+    plans_.push_back(std::move(planned.plans[p]));
+  }
   workers_.resize(1);
   for (const auto& plan : plans_) workers_[0].push_back(PieceSolver::make(*plan));
   passes_ = std::make_unique<const detail::FramePasses>(cut ? *cut : mesh, unit, std::move(folds), std::move(joints),

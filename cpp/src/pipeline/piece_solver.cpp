@@ -1,5 +1,7 @@
 #include "pipeline/piece_solver.h"
 
+#include <stdexcept>
+
 #include "mesh/geometry.h"
 #include "blend/metric_blend.h"
 #include "place/rigid_motion.h"
@@ -94,6 +96,15 @@ PiecePlan::PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int ba
       anchor(piece.mesh, local_shapes[base], anchor_vertex),
       mirrored(doubled_total_area(local_shapes[base], piece.mesh.faces()) < 0) {
   if (joints) shape.emplace(JointPiece{&piece.vertices, &piece.mesh, &anchor.base(), &frames});
+  const Eigen::VectorXd region = still ? still_region(piece.mesh, anchor, local_shapes, base) : Eigen::VectorXd();
+  if (region.size() > 0) anchor.set_region(region);
+  for (const Positions& X : local_shapes) frames.push_back(anchor.measure_input(X));
+  // The default anchor (and a path's point) moves on the geodesic of the rigid motions; the
+  // paper's vertex anchor keeps its linear blend; a whole turn with a shift has none (rigid_motion.h).
+  if (still && anchor_vertex < 0 && has_geodesic(frames, base)) geodesic_base = base;
+}
+
+void PiecePlan::plan_solve(const std::vector<Positions>& local_shapes, int base) {
   // A holed piece flattens and lays out in its HoleSolver: no disk plan or layout for it.
   if (piece.mesh.boundary_loops().size() > 1) {
     holes = std::make_unique<const HoleSolver>(piece.mesh, local_shapes[base]);
@@ -101,18 +112,11 @@ PiecePlan::PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int ba
     flatten = std::make_shared<const FlattenPlan>(piece.mesh);
     layout = std::make_shared<const LayoutPlan>(piece.mesh);
   }
-  const Eigen::VectorXd region = still ? still_region(piece.mesh, anchor, local_shapes, base) : Eigen::VectorXd();
-  if (region.size() > 0) anchor.set_region(region);
-  for (const Positions& X : local_shapes) {
-    l2.push_back(squared_edge_lengths(piece.mesh, X));
-    frames.push_back(anchor.measure_input(X));
-  }
-  // The default anchor (and a path's point) moves on the geodesic of the rigid motions; the
-  // paper's vertex anchor keeps its linear blend; a whole turn with a shift has none (rigid_motion.h).
-  if (still && anchor_vertex < 0 && has_geodesic(frames, base)) geodesic_base = base;
+  for (const Positions& X : local_shapes) l2.push_back(squared_edge_lengths(piece.mesh, X));
 }
 
 std::unique_ptr<PieceSolver> PieceSolver::make(const PiecePlan& plan) {
+  if (!plan.holes && !plan.flatten) throw std::logic_error("PieceSolver: the plan's plan_solve was not called");
   if (plan.holes) return std::make_unique<HoledSolver>(plan);
   return std::make_unique<DiskSolver>(plan);
 }

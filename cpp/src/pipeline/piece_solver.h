@@ -35,11 +35,16 @@ struct PiecePlan {
   // therefore never moved; its queries are not thread-safe (only the Joints' constructor makes them).
   std::optional<detail::PieceShape> shape;
 
-  // local_shapes: every input's positions of the piece's vertices (its local order); base: the
-  // domain shape; anchor_vertex: the anchor's local index, -1 for none; still: anchor on the parts
-  // that do not move between the inputs (still.h; the default anchor, also the point an anchor path
-  // without a vertex moves); joints: make `shape`.
+  // The piece's placement: its anchor, its frame in every input and (joints) its `shape`; the
+  // solvers' part follows with plan_solve. local_shapes: every input's positions of the piece's
+  // vertices (its local order); base: the domain shape; anchor_vertex: the anchor's local index, -1
+  // for none; still: anchor on the parts that do not move between the inputs (still.h; the default
+  // anchor, also the point an anchor path without a vertex moves); joints: make `shape`.
   PiecePlan(Piece p, const std::vector<Positions>& local_shapes, int base, int anchor_vertex, bool still, bool joints);
+  // The solvers' part: `flatten` and `layout` (or `holes`) and `l2`, from the same local_shapes and
+  // base. Made after the joints, which read what the constructor left in the cache (the symbolic
+  // analyses here would evict it).
+  void plan_solve(const std::vector<Positions>& local_shapes, int base);
   PiecePlan(const PiecePlan&) = delete;
   PiecePlan& operator=(const PiecePlan&) = delete;
 };
@@ -56,7 +61,8 @@ struct PieceOutcome {
 // Not thread-safe; one per piece and worker, all reading the same PiecePlan (which must outlive it).
 class PieceSolver {
  public:
-  // The solver of the plan's kind: HoledSolver when plan.holes is set, else DiskSolver.
+  // The solver of the plan's kind: HoledSolver when plan.holes is set, else DiskSolver (std::logic_error
+  // before the plan's plan_solve).
   static std::unique_ptr<PieceSolver> make(const PiecePlan& plan);
   virtual ~PieceSolver() = default;
 

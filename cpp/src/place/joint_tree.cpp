@@ -116,8 +116,12 @@ std::vector<int> inside(const PieceShape& a, const PieceShape& b) {
   return out;
 }
 
-// The vertices of either piece inside the other.
+// The vertices of either piece inside the other; of a piece that lies wholly inside the other (an
+// eye on a head: PieceShape::holds), its own vertices alone, so the overlap is the piece itself
+// whatever the other's triangles under it.
 std::vector<int> overlap_vertices(const PieceShape& a, const PieceShape& b) {
+  if (a.holds(b)) return *b.piece().vertices;
+  if (b.holds(a)) return *a.piece().vertices;
   std::vector<int> ov = inside(a, b), ba = inside(b, a);
   ov.insert(ov.end(), ba.begin(), ba.end());
   return ov;

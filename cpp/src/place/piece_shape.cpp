@@ -14,6 +14,16 @@ double squared_distance(const Eigen::Vector2d& q, const Eigen::Vector2d& a, cons
   return (a + t * e - q).squaredNorm();
 }
 
+// Whether the segments [a, b] and [c, d] cross or come within sqrt(margin2): true also when
+// unsure (collinear, touching).
+bool segments_near(const Eigen::Vector2d& a, const Eigen::Vector2d& b, const Eigen::Vector2d& c,
+                   const Eigen::Vector2d& d, double margin2) {
+  const auto cross = [](const Eigen::Vector2d& u, const Eigen::Vector2d& v) { return u.x() * v.y() - u.y() * v.x(); };
+  if (cross(b - a, c - a) * cross(b - a, d - a) <= 0 && cross(d - c, a - c) * cross(d - c, b - c) <= 0) return true;
+  return std::min({squared_distance(a, c, d), squared_distance(b, c, d), squared_distance(c, a, b),
+                   squared_distance(d, a, b)}) < margin2;
+}
+
 }  // namespace
 
 PieceShape::PieceShape(const JointPiece& piece) : piece_(piece) {
@@ -76,10 +86,12 @@ double PieceShape::locate(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& 
   // From the last face found when q lies near it (a least weight above -kNearWalk / 2)
   int f = barycentric(q, hint_).minCoeff() > -0.5 * kNearWalk ? walk(q, hint_, bary, kNearWalk) : -1;
   if (f < 0) {  // else, or where the outline stopped that walk, from a face at the outline nearest
-    if (!winds(q)) return -HUGE_VAL;  // q, whose segment to q crosses no outline; then every face
-    double distance;
+    double distance;  // q, whose segment to q crosses no outline
     f = walk(q, *piece_.mesh->vertex_faces(nearest_edge(q, HUGE_VAL, distance)[0]).begin(), bary,
              piece_.mesh->num_faces());
+    // A face holding q strictly inside settles it (the faces cover what the outline winds round);
+    // else the outline decides, and where it winds round q, the search of every face.
+    if (!(f >= 0 && bary.minCoeff() > 0) && !winds(q)) return -HUGE_VAL;
     if (f < 0) f = scan(q, bary);  // a walk that turned back on itself
   }
   if (f < 0) return -HUGE_VAL;
@@ -92,6 +104,26 @@ bool PieceShape::contains(const Eigen::Vector2d& q) const {
   bool near = false;
   const int w = winding(q, margin * margin, near);
   return !near && w != 0;
+}
+
+bool PieceShape::holds(const PieceShape& other) const {
+  if ((other.lo_.array() < lo_.array()).any() || (other.hi_.array() > hi_.array()).any()) return false;
+  const double margin = kOnOutline * diagonal(), margin2 = margin * margin;
+  const Eigen::AlignedBox2d box(other.lo_, other.hi_);
+  for (const Run& r : runs_) {
+    if (!(r.box.squaredExteriorDistance(box) < margin2)) continue;
+    for (const Run& s : other.runs_) {
+      if (!(r.box.squaredExteriorDistance(s.box) < margin2)) continue;
+      for (int k = r.begin; k < r.end; ++k)
+        for (int j = s.begin; j < s.end; ++j)
+          if (segments_near(outline_[static_cast<size_t>(k)], outline_[static_cast<size_t>(k) + 1],
+                            other.outline_[static_cast<size_t>(j)], other.outline_[static_cast<size_t>(j) + 1], margin2))
+            return false;
+    }
+    for (int k = r.begin; k < r.end; ++k)
+      if (other.in_box(outline_[static_cast<size_t>(k)]) && other.winds(outline_[static_cast<size_t>(k)])) return false;
+  }
+  return contains(other.outline_.front());
 }
 
 double PieceShape::locate_nearest(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& bary) const {

@@ -62,6 +62,12 @@ class PieceShape {
   double outside(const Eigen::Vector2d& q, double within) const;
   // Whether q lies inside the piece, farther than kOnOutline of its size from the outline.
   bool contains(const Eigen::Vector2d& q) const;
+  // Whether every point of `other` (its outline and all it winds round) is inside this piece as
+  // contains() has it: its outline comes within that margin of no edge of this outline (tested
+  // conservatively: false when unsure), no point of this outline lies inside `other`, and one
+  // point of `other` is inside. So contains() holds at each of `other`'s vertices, unasked: a
+  // point it winds round reaches this outline only across its own, which keeps the margin.
+  bool holds(const PieceShape& other) const;
   // A face holding q (least barycentric weight >= -kInside) and that weight; bary gets the face's
   // weights. Face -1 and -inf when q is outside the piece.
   double locate(const Eigen::Vector2d& q, int& face, Eigen::Vector3d& bary) const;
