@@ -57,6 +57,9 @@ void bind_options(py::module_& m) {
           "MAX_THREADS", [](py::object) { return InterpolatorOptions::kMaxThreads; });
   flatten_field(cls, "tolerance", &FlattenOptions::tolerance,
                 "stop when max |2 pi - angle sum| <= tolerance (radians)");
+  flatten_field(cls, "refinement", &FlattenOptions::refinement,
+                "then refine towards tolerance * refinement while steps halve the residual (1: stop at "
+                "the tolerance)");
   flatten_field(cls, "max_iterations", &FlattenOptions::max_iterations,
                 "Newton steps before SolverError");
   flatten_field(cls, "reuse_factorization", &FlattenOptions::reuse_factorization,

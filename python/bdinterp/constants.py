@@ -16,6 +16,9 @@ PLANAR_TOLERANCE = 1e-4
 # iteration cap, and the thread count (0 = one per core).
 TOLERANCE = 1e-10
 MAX_ITERATIONS = 50
+# Below the tolerance, steps go on towards TOLERANCE * REFINEMENT while they halve the residual, so
+# that a frame does not depend on the frames solved before it (to about 1e-13 of the size).
+REFINEMENT = 1e-3
 THREADS = 0
 
 # The largest value the core's C int options accept (max_iterations, threads, the anchor vertex).

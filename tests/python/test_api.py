@@ -134,11 +134,29 @@ def test_frames_options_and_methods_are_checked(bar):
     ({"threads": True}, "threads must be an integer, got True"),
     ({"base": 2}, r"base must be an integer in \[0, 1\], got 2"),
     ({"strict": "yes"}, "strict must be True or False"),
+    ({"refinement": 2.0}, r"refinement must be in \[0, 1\] \(got 2\)"),  # the core's check
+    ({"refinement": "1"}, "refinement must be a real number"),
 ])
 def test_options_are_validated_naming_the_argument(disk, kwargs, message):
     V, F = disk
     with pytest.raises(ValueError, match=message):
         bdinterp.Interpolator([V, 2 * V], F, **kwargs)
+
+
+def test_refinement_one_stops_at_the_tolerance():
+    # A bar bent by 150 degrees: refined (the default), a frame goes on below tol until its steps stop
+    # halving the residual; with refinement=1 it stops at tol, in fewer steps, and the two frames
+    # differ by about what tol allows.
+    V, F = meshes.rectangle(4.0, 1.0, n_approx=800, seed=3)
+    a = np.radians(150)
+    r = 4.0 / a - V[:, 1]
+    T = np.c_[r * np.sin(V[:, 0] * a / 4.0), 4.0 / a - r * np.cos(V[:, 0] * a / 4.0)]
+    size = np.linalg.norm(np.ptp(V, axis=0))
+    refined, plain = (bdinterp.Interpolator([V, T], F, tol=1e-4, threads=1, refinement=r) for r in (1e-3, 1.0))
+    X, Y = refined.at(0.4), plain.at(0.4)
+    assert refined.stats.residual <= 1e-7 < plain.stats.residual <= 1e-4
+    assert plain.stats.iterations < refined.stats.iterations
+    assert 1e-13 < np.abs(X - Y).max() / size < 1e-5
 
 
 def test_arrays_are_validated_naming_the_argument(disk):

@@ -51,8 +51,13 @@ void blend_squared_lengths(const Mesh& mesh, const std::vector<Eigen::VectorXd>&
   for (Eigen::Index i = 0; i < w.size(); ++i) {
     if (!std::isfinite(w[i])) throw InvalidInput(Where::of_shape(static_cast<int>(i)), "its weight is not finite");
   }
-  out = w[0] * l2[0];  // in place when sized: no large allocation a frame
-  for (size_t i = 1; i < l2.size(); ++i) out += w[static_cast<Eigen::Index>(i)] * l2[i];
+  // In place when sized: no large allocation a frame. A zero weight adds +0 to every (positive)
+  // sum, so it is skipped: a pose grid's cell has a few nonzero weights out of all its poses.
+  size_t first = 0;
+  while (first + 1 < l2.size() && w[static_cast<Eigen::Index>(first)] == 0) ++first;
+  out = w[static_cast<Eigen::Index>(first)] * l2[first];
+  for (size_t i = first + 1; i < l2.size(); ++i)
+    if (w[static_cast<Eigen::Index>(i)] != 0) out += w[static_cast<Eigen::Index>(i)] * l2[i];
   // With weights >= 0 the blend is valid by construction (paper, Sec. 4): Euclidean squared-length
   // triples form a convex cone, and 4 area = sqrt(Heron's quadratic form) is concave on it (a
   // reverse triangle inequality), so a blended face's area is at least the weighted mean of the
