@@ -149,6 +149,8 @@ struct SparseCholesky::Impl {
   mutable parallel::Partials product_parts;  // other threads' shares of multiply()
   // The elimination-tree split of the solves per number of chunks (index), built on first use.
   std::vector<std::unique_ptr<detail::TreeSolve>> tree_solves;
+  std::vector<float> single;  // L's values in single precision (solve_single)
+  bool single_current = false;  // `single` holds this factorisation's values
 
   explicit Impl(const CholeskyAnalysis& a, const cholmod_factor* symbolic)
       : common(a.size()), values(a.row_indices().size(), 0.0), A(view(a, values.data())) {
@@ -189,7 +191,7 @@ bool SparseCholesky::factor_is_ll() const { return impl_->factored && impl_->L->
 
 void SparseCholesky::factorize() {
   Impl& m = *impl_;
-  m.factored = false;
+  m.factored = m.single_current = false;
   const cholmod_factor* symbolic = analysis_->impl_->L;
   if (symbolic->is_super && !m.L->is_super) {  // the last factor was made simplicial: supernodal again
     cholmod_free_factor(&m.L, &m.common.c);
@@ -277,6 +279,24 @@ void SparseCholesky::solve(const double* b, double* x, int ncols) {
   cholmod_solve2(CHOLMOD_A, m.L, m.B, nullptr, &m.X, nullptr, &m.Y, &m.E, &m.common.c);
   check(m.common.c, "solve");
   std::memcpy(x, m.X->x, sizeof(double) * n * ncols);
+}
+
+void SparseCholesky::solve_single(const double* b, double* x) {
+  Impl& m = *impl_;
+  if (!m.factored) throw SolverError("SparseCholesky::solve_single called without a valid factorisation");
+  const int n = size();
+  const int chunks = parallel::Loop(n, solve_flops() / (64.0 * std::max(n, 1))).chunks();
+  detail::TreeSolve* plan = tree_solve(chunks);
+  if (!plan) return solve(b, x, 1);
+  detail::FactorView view = factor_view(*m.L);
+  if (!m.single_current) {
+    const double* values = view.x;
+    m.single.resize(m.L->nzmax);
+    parallel::Loop(static_cast<long>(m.L->nzmax)).run([&](int, long k) { m.single[k] = static_cast<float>(values[k]); });
+    m.single_current = true;
+  }
+  view.x_single = m.single.data();
+  plan->solve(view, b, x, 1, /*single=*/true);
 }
 
 namespace {

@@ -82,6 +82,10 @@ class SparseCholesky {
   // src/detail/tree_solve.h); serial solves are CHOLMOD's (1.0-1.1x faster than the split code
   // run on one thread, 48k rows).
   void solve(const double* b, double* x, int ncols = 1);
+  // solve() with the factor's values rounded to single precision (the sums in double): a
+  // preconditioner's solve, reading half the bytes of values where the solve splits over the cores
+  // (their copy made on the first such call after each factorisation); elsewhere solve() itself.
+  void solve_single(const double* b, double* x);
   // How solve() splits when `chunks` are allowed: the chunks used (1: serial), the share of nnz(L)
   // left to the calling thread (the separators above the subtrees), and the share on the critical
   // path (those plus the heaviest chunk; 1 / chunks at best). Diagnostics and tests.

@@ -150,6 +150,14 @@ void gather(const FactorView& L, const double* b, TreeSolve::Range r, int k, dou
   }
 }
 
+// The factor's values of type T.
+template <class T>
+const T* values(const FactorView& L);
+template <>
+const double* values<double>(const FactorView& L) { return L.x; }
+template <>
+const float* values<float>(const FactorView& L) { return L.x_single; }
+
 void scatter(const FactorView& L, const double* y, TreeSolve::Range r, int k, double* x) {
   for (int j = r.first; j <= r.last; ++j) {
     const int i = L.perm ? L.perm[j] : j;
@@ -162,16 +170,17 @@ void scatter(const FactorView& L, const double* y, TreeSolve::Range r, int k, do
 // below it, the first inside_[j] directly, the rest (the top's rows) in `buf`. Two columns with one
 // pattern (chain_, as in the separators' dense blocks) go together, so each row they update is
 // read and written once for both, as in CHOLMOD's own simplicial solves (docs/BENCHMARKS.md).
-template <int K>
+template <int K, class T>
 void TreeSolve::forward(const FactorView& L, Range r, int nc, double* y, double* buf) const {
   const int k = K > 0 ? K : nc;
+  const T* x = values<T>(L);
   double u[kMax], v[kMax];
   for (int j = r.first; j <= r.last;) {
     const int* rows = L.i + L.p[j];
-    const double* x0 = L.x + L.p[j];
+    const T* x0 = x + L.p[j];
     const int in = inside_[j], nz = L.nz[j];
     if (j < r.last && chain_[j]) {  // columns j and j+1; column j+1's q-1 is column j's q
-      const double* x1 = L.x + L.p[j + 1];
+      const T* x1 = x + L.p[j + 1];
       for (int c = 0; c < k; ++c) {
         u[c] = y[j * k + c] /= x0[0];
         v[c] = y[(j + 1) * k + c] = (y[(j + 1) * k + c] - x0[1] * u[c]) / x1[0];
@@ -197,14 +206,15 @@ void TreeSolve::forward(const FactorView& L, Range r, int nc, double* y, double*
 }
 
 // Backward substitution over the columns of r, last first (rows above r are solved already).
-template <int K>
+template <int K, class T>
 void TreeSolve::backward(const FactorView& L, Range r, int nc, double* y) const {
   const int k = K > 0 ? K : nc;
+  const T* x = values<T>(L);
   double s[kMax], t[kMax];
   for (int j = r.last; j >= r.first;) {
     if (j > r.first && chain_[j - 1]) {  // columns j-1 and j together
       const int* rows = L.i + L.p[j - 1];
-      const double *x0 = L.x + L.p[j - 1], *x1 = L.x + L.p[j];
+      const T *x0 = x + L.p[j - 1], *x1 = x + L.p[j];
       for (int c = 0; c < k; ++c) {
         s[c] = y[(j - 1) * k + c];
         t[c] = y[j * k + c];
@@ -224,7 +234,7 @@ void TreeSolve::backward(const FactorView& L, Range r, int nc, double* y) const 
       continue;
     }
     const int* rows = L.i + L.p[j];
-    const double* x0 = L.x + L.p[j];
+    const T* x0 = x + L.p[j];
     for (int c = 0; c < k; ++c) s[c] = y[j * k + c];
     for (int q = 1; q < L.nz[j]; ++q) {
       for (int c = 0; c < k; ++c) s[c] -= x0[q] * y[rows[q] * k + c];
@@ -234,7 +244,7 @@ void TreeSolve::backward(const FactorView& L, Range r, int nc, double* y) const 
   }
 }
 
-template <int K>
+template <int K, class T>
 void TreeSolve::solve_k(const FactorView& L, const double* b, double* x, int nc) {
   const int k = K > 0 ? K : nc, nb = bins();
   y_.resize(static_cast<size_t>(n_) * k);
@@ -246,7 +256,7 @@ void TreeSolve::solve_k(const FactorView& L, const double* b, double* x, int nc)
   bins.run([&](int, long bin) {
     for (const Range& r : bins_[bin]) {
       gather(L, b, r, k, y);
-      forward<K>(L, r, k, y, buf_[bin].data());
+      forward<K, T>(L, r, k, y, buf_[bin].data());
     }
   });
   for (int bin = 0; bin < nb; ++bin) {  // the bins' updates of the top, in bin order
@@ -254,21 +264,23 @@ void TreeSolve::solve_k(const FactorView& L, const double* b, double* x, int nc)
       for (int c = 0; c < k; ++c) y[top_[t] * k + c] += buf_[bin][c * ntop_ + t];
     }
   }
-  for (const Range& r : top_runs_) forward<K>(L, r, k, y, nullptr);
-  for (auto r = top_runs_.rbegin(); r != top_runs_.rend(); ++r) backward<K>(L, *r, k, y);
+  for (const Range& r : top_runs_) forward<K, T>(L, r, k, y, nullptr);
+  for (auto r = top_runs_.rbegin(); r != top_runs_.rend(); ++r) backward<K, T>(L, *r, k, y);
   for (const Range& r : top_runs_) scatter(L, y, r, k, x);  // b is read in full: x may alias it
   bins.run([&](int, long bin) {
     for (auto r = bins_[bin].rbegin(); r != bins_[bin].rend(); ++r) {
-      backward<K>(L, *r, k, y);
+      backward<K, T>(L, *r, k, y);
       scatter(L, y, *r, k, x);
     }
   });
 }
 
-void TreeSolve::solve(const FactorView& L, const double* b, double* x, int ncols) {
-  if (ncols == 1) solve_k<1>(L, b, x, 1);
-  else if (ncols == 2) solve_k<2>(L, b, x, 2);
-  else solve_k<0>(L, b, x, ncols);
+void TreeSolve::solve(const FactorView& L, const double* b, double* x, int ncols, bool single) {
+  if (single && ncols == 1) solve_k<1, float>(L, b, x, 1);
+  else if (single) solve_k<0, float>(L, b, x, ncols);
+  else if (ncols == 1) solve_k<1, double>(L, b, x, 1);
+  else if (ncols == 2) solve_k<2, double>(L, b, x, 2);
+  else solve_k<0, double>(L, b, x, ncols);
 }
 
 }  // namespace bdinterp::detail

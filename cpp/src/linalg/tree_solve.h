@@ -22,6 +22,7 @@ struct FactorView {
   const int* nz = nullptr;
   const double* x = nullptr;
   const int* perm = nullptr;  // null: the identity
+  const float* x_single = nullptr;  // x rounded to single precision (optional: solve's `single`)
 };
 
 class TreeSolve {
@@ -43,7 +44,9 @@ class TreeSolve {
 
   // Solves A X = B for ncols right-hand sides stored column after column (n * ncols doubles) with
   // the numeric values of `L` (same pattern as at construction), ncols <= kMaxColumns. x may alias b.
-  void solve(const FactorView& L, const double* b, double* x, int ncols);
+  // single: with L.x_single instead of L.x (sums still in double): half the values' memory traffic,
+  // for a preconditioner.
+  void solve(const FactorView& L, const double* b, double* x, int ncols, bool single = false);
 
   struct Range {
     int first, last;  // columns first..last (a whole subtree: last is its root)
@@ -52,11 +55,12 @@ class TreeSolve {
  private:
   // One bin's or the top's share of each pass (solve_k's parts); K: ncols fixed at compile time
   // (0: ncols at run time). y: the permuted solution in progress, K columns interleaved.
-  template <int K>
+  // T: the values' type (double: L.x, float: L.x_single).
+  template <int K, class T>
   void forward(const FactorView& L, Range r, int ncols, double* y, double* buf) const;
-  template <int K>
+  template <int K, class T>
   void backward(const FactorView& L, Range r, int ncols, double* y) const;
-  template <int K>
+  template <int K, class T>
   void solve_k(const FactorView& L, const double* b, double* x, int ncols);
 
   bool usable_ = false;
