@@ -6,6 +6,7 @@
 #include <Eigen/Dense>
 #include <Eigen/SparseCholesky>
 #include <functional>
+#include <memory>
 #include <random>
 
 #include "linalg/tree_solve.h"
@@ -161,6 +162,17 @@ Eigen::SparseMatrix<double> shifted_laplacian(const testing::TestMesh& m) {
   return L;
 }
 
+// CHOLMOD's factorisation of the matrix whose lower triangle by columns is `lower`.
+std::unique_ptr<SparseCholesky> factorised(const Eigen::SparseMatrix<double>& lower) {
+  const int n = static_cast<int>(lower.rows());
+  const std::vector<int> col_ptr(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
+  const std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
+  auto chol = std::make_unique<SparseCholesky>(n, col_ptr, rows);
+  std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol->values());
+  chol->factorize();
+  return chol;
+}
+
 TEST(TreeSolve, MeshSystemsSplitOverTheCoresAndMatchEigen) {
   // ~5k rows (AMD or CHOLMOD's nested dissection) and ~25k (METIS): the split leaves a few
   // separators to the calling thread and shares the rest evenly enough, and every way of running
@@ -169,11 +181,8 @@ TEST(TreeSolve, MeshSystemsSplitOverTheCoresAndMatchEigen) {
     const testing::TestMesh m = testing::jittered_grid(nx, nx / 2, 2.0, 1.0, 5);
     const Eigen::SparseMatrix<double> lower = shifted_laplacian(m);
     const int n = static_cast<int>(lower.rows());
-    std::vector<int> col_ptr(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
-    std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
-    SparseCholesky chol(n, col_ptr, rows);
-    std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol.values());
-    chol.factorize();
+    const std::unique_ptr<SparseCholesky> factor = factorised(lower);
+    SparseCholesky& chol = *factor;
     for (int chunks : {2, 3, 4}) {
       const SparseCholesky::SolveSplit split = chol.solve_split(chunks);
       EXPECT_EQ(split.chunks, chunks) << n << " rows";
@@ -248,11 +257,8 @@ TEST(TreeSolve, TheSinglePrecisionSolveIsAFloatAccuratePreconditioner) {
   const testing::TestMesh m = testing::jittered_grid(220, 110, 2.0, 1.0, 5);
   const Eigen::SparseMatrix<double> lower = shifted_laplacian(m);
   const int n = static_cast<int>(lower.rows());
-  std::vector<int> col_ptr(lower.outerIndexPtr(), lower.outerIndexPtr() + n + 1);
-  std::vector<int> rows(lower.innerIndexPtr(), lower.innerIndexPtr() + lower.nonZeros());
-  SparseCholesky chol(n, col_ptr, rows);
-  std::copy(lower.valuePtr(), lower.valuePtr() + lower.nonZeros(), chol.values());
-  chol.factorize();
+  const std::unique_ptr<SparseCholesky> factor = factorised(lower);
+  SparseCholesky& chol = *factor;
   const parallel::ThreadLimit limit(0);
   ASSERT_EQ(chol.solve_split(parallel::usable_cores()).chunks > 1, parallel::usable_cores() > 1);
   const Eigen::VectorXd b = Eigen::VectorXd::Random(n);
