@@ -9,6 +9,7 @@
 #include <memory>
 #include <random>
 
+#include "flatten/pcg.h"
 #include "linalg/tree_solve.h"
 #include "parallel/parallel.h"
 #include "linalg/sparse_cholesky.h"
@@ -251,14 +252,16 @@ TEST(TreeSolve, ASupernodalFactorIsSolvedAsASimplicialOneOverTheCores) {
 }
 
 TEST(TreeSolve, TheSinglePrecisionSolveIsAFloatAccuratePreconditioner) {
-  // A 25k-row mesh Laplacian: solve_single() differs from solve() by about float's rounding times
-  // the condition (not by double's: the single values are read), is the same on every run, and
+  // A 100k-row mesh Laplacian, a factor large enough for the chord steps' CG to precondition in
+  // single precision: solve_single() differs from solve() by about float's rounding times the
+  // condition (not by double's: the single values are read), is the same on every run, and
   // preconditions CG as well as the exact factor (the residual falls by 1e-12 in a few steps).
-  const testing::TestMesh m = testing::jittered_grid(220, 110, 2.0, 1.0, 5);
+  const testing::TestMesh m = testing::jittered_grid(450, 225, 2.0, 1.0, 5);
   const Eigen::SparseMatrix<double> lower = shifted_laplacian(m);
   const int n = static_cast<int>(lower.rows());
   const std::unique_ptr<SparseCholesky> factor = factorised(lower);
   SparseCholesky& chol = *factor;
+  ASSERT_TRUE(chol.single_pays());
   const parallel::ThreadLimit limit(0);
   ASSERT_EQ(chol.solve_split(parallel::usable_cores()).chunks > 1, parallel::usable_cores() > 1);
   const Eigen::VectorXd b = Eigen::VectorXd::Random(n);
@@ -270,23 +273,10 @@ TEST(TreeSolve, TheSinglePrecisionSolveIsAFloatAccuratePreconditioner) {
   EXPECT_LT(error, 1e-3);
   if (parallel::usable_cores() > 1) EXPECT_GT(error, 1e-10);
   EXPECT_EQ((single - again).cwiseAbs().maxCoeff(), 0.0);
-  // Preconditioned CG on A x = b with solve_single as the preconditioner.
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(n), r = b, z(n), p(n), q(n);
-  chol.solve_single(r.data(), z.data());
-  p = z;
-  double rz = r.dot(z);
-  int steps = 0;
-  while (r.norm() > 1e-12 * b.norm() && steps < 20) {
-    chol.multiply(chol.values(), p.data(), q.data());
-    const double alpha = rz / p.dot(q);
-    x += alpha * p;
-    r -= alpha * q;
-    chol.solve_single(r.data(), z.data());
-    const double rz_next = r.dot(z);
-    p = z + (rz_next / rz) * p;
-    rz = rz_next;
-    ++steps;
-  }
+  // The flattening's CG on A x = b, preconditioned with the same factor.
+  Eigen::VectorXd x(n);
+  detail::PcgScratch scratch;
+  const int steps = detail::preconditioned_cg(chol, chol.values(), b, 1e-12 * b.cwiseAbs().maxCoeff(), 20, x, scratch);
   EXPECT_LE(steps, 5);
   EXPECT_LT((x - exact).cwiseAbs().maxCoeff(), 1e-10 * exact.cwiseAbs().maxCoeff());
 }

@@ -9,17 +9,12 @@ int preconditioned_cg(SparseCholesky& M, const double* A_values, const Eigen::Ve
   s.z.resize(n);
   s.p.resize(n);
   x.resize(n);
-  const bool single = M.single_pays();  // a large factor: its values in single precision
-  const auto precondition = [&](const double* in, double* out) {
-    if (single) M.solve_single(in, out);
-    else M.solve(in, out);
-  };
-  precondition(b.data(), x.data());  // the chord step
+  M.precondition(b.data(), x.data());  // the chord step
   M.multiply(A_values, x.data(), s.z.data());
   s.r = b - s.z;
   int it = 0;
   if (s.r.cwiseAbs().maxCoeff() <= eta) return it;
-  precondition(s.r.data(), s.z.data());
+  M.precondition(s.r.data(), s.z.data());
   s.p = s.z;
   double rz = s.r.dot(s.z);
   for (it = 1; it <= max_iterations; ++it) {
@@ -30,7 +25,7 @@ int preconditioned_cg(SparseCholesky& M, const double* A_values, const Eigen::Ve
     x += alpha * s.p;
     s.r -= alpha * s.z;
     if (s.r.cwiseAbs().maxCoeff() <= eta) break;
-    precondition(s.r.data(), s.z.data());
+    M.precondition(s.r.data(), s.z.data());
     const double rz_next = s.r.dot(s.z);
     s.p = s.z + (rz_next / rz) * s.p;
     rz = rz_next;

@@ -12,8 +12,8 @@ struct PcgScratch {
 };
 
 // Solves A x = b (n = M.size()) for the SPD matrix A whose lower triangle, in M's pattern order, is
-// `A_values`, preconditioned with M's factorisation (its values in single precision where that
-// pays, SparseCholesky::single_pays). Starts from the chord step x = M^-1 b and stops
+// `A_values`, preconditioned with M's factorisation (SparseCholesky::precondition: its values in
+// single precision where that pays). Starts from the chord step x = M^-1 b and stops
 // when max |b - A x| <= eta, or after max_iterations iterations, or when A stops being positive
 // definite along a search direction. Returns the iterations after the chord step (max_iterations + 1
 // if exhausted).

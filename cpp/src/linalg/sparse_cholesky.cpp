@@ -28,8 +28,8 @@ void configure(cholmod_common& common, int n) {
   // 36 / 24 ms. So simplicial up to ~100k rows (cold frames about even there), supernodal beyond.
   // Simplicial solves also split over the cores (tree_solve.h: 48k rows, 2 cores, 1 column 1.4-2.3
   // ms against CHOLMOD's 2.8-3.8 ms), so factorize() makes a supernodal factor simplicial for its
-  // solves (it keeps the supernodes' explicit zeros: +21 % entries at 100k rows). Warm blends of a
-  // 100k-vertex pose grid: 96 -> 61 ms, of a 200k one 243 -> 156 ms; cold ones unchanged.
+  // solves (it keeps the supernodes' explicit zeros: +21 % entries at 100k rows; warm blends of a
+  // 100k-vertex pose grid take 0.64 of the time of CHOLMOD's supernodal solves).
   common.supernodal_switch = 140;
   // Simplicial factors are kept as LL' rather than LDL': the same factorisation cost, solves ~20 %
   // faster (no diagonal pass), and the solves are what repeated frames spend their time in.
@@ -264,13 +264,17 @@ SparseCholesky::SolveSplit SparseCholesky::solve_split(int chunks) {
   return {plan->bins(), plan->top_share(), plan->critical_share()};
 }
 
+detail::TreeSolve* SparseCholesky::solve_plan() {
+  // Split over the cores when a solve is worth two fork/joins (nnz(L) >= 8000: from ~1k rows).
+  const int n = size();
+  return tree_solve(parallel::Loop(n, solve_flops() / (64.0 * std::max(n, 1))).chunks());
+}
+
 void SparseCholesky::solve(const double* b, double* x, int ncols) {
   Impl& m = *impl_;
   if (!m.factored) throw SolverError("SparseCholesky::solve called without a valid factorisation");
   const int n = size();
-  // Split over the cores when a solve is worth two fork/joins (nnz(L) >= 8000: from ~1k rows).
-  const int chunks = parallel::Loop(n, solve_flops() / (64.0 * std::max(n, 1))).chunks();
-  if (detail::TreeSolve* plan = ncols <= detail::TreeSolve::kMaxColumns ? tree_solve(chunks) : nullptr) {
+  if (detail::TreeSolve* plan = ncols <= detail::TreeSolve::kMaxColumns ? solve_plan() : nullptr) {
     plan->solve(factor_view(*m.L), b, x, ncols);
     return;
   }
@@ -284,9 +288,7 @@ void SparseCholesky::solve(const double* b, double* x, int ncols) {
 void SparseCholesky::solve_single(const double* b, double* x) {
   Impl& m = *impl_;
   if (!m.factored) throw SolverError("SparseCholesky::solve_single called without a valid factorisation");
-  const int n = size();
-  const int chunks = parallel::Loop(n, solve_flops() / (64.0 * std::max(n, 1))).chunks();
-  detail::TreeSolve* plan = tree_solve(chunks);
+  detail::TreeSolve* plan = solve_plan();
   if (!plan) return solve(b, x, 1);
   detail::FactorView view = factor_view(*m.L);
   if (!m.single_current) {

@@ -91,6 +91,11 @@ class SparseCholesky {
   // 8 % faster a warm update; 50k-vertex warm frames (1.9M) 5 % slower, their values read from
   // the caches.
   bool single_pays() const { return solve_flops() >= 4.0 * 3e6; }
+  // A preconditioner's solve: solve_single() where it pays, else solve().
+  void precondition(const double* b, double* x) {
+    if (single_pays()) solve_single(b, x);
+    else solve(b, x);
+  }
   // How solve() splits when `chunks` are allowed: the chunks used (1: serial), the share of nnz(L)
   // left to the calling thread (the separators above the subtrees), and the share on the critical
   // path (those plus the heaviest chunk; 1 / chunks at best). Diagnostics and tests.
@@ -102,6 +107,7 @@ class SparseCholesky {
 
  private:
   detail::TreeSolve* tree_solve(int chunks);  // the split for `chunks`, or null: serial
+  detail::TreeSolve* solve_plan();            // tree_solve() for the chunks a solve may use now
   struct Impl;
   std::shared_ptr<const CholeskyAnalysis> analysis_;
   std::unique_ptr<Impl> impl_;
