@@ -175,3 +175,21 @@ def test_live_renders_with_blender_b_a(addon, bd, tmp_path):
     ref_path = reference_file(obj, {frame: bd.interpolate(S, T, faces, t)
                                     for frame, t in ((1, 0.0), (2, 0.5), (3, 1.0))}, tmp)
     render_pair(tmp, live_path, ref_path, "live mode turned off", differ=0.02)
+
+
+def test_key_coordinates_written_and_read_whole_are_blenders_own():
+    """mesh_io writes and reads a key through ShapeKey.points where Blender has it (the whole
+    array at once): what it writes is what kb.data reads point by point, and the other way."""
+    from bdinterp_blender.shapes import mesh_io
+    bpy.ops.mesh.primitive_grid_add(x_subdivisions=20, y_subdivisions=30, size=2)
+    obj = bpy.context.active_object
+    obj.shape_key_add(name="Basis")
+    kb = obj.shape_key_add(name="k")
+    assert (mesh_io.points(kb) == kb.points) if bpy.app.version >= (4, 1, 0) else \
+        (mesh_io.points(kb) == kb.data)
+    co = np.random.default_rng(3).normal(size=(len(obj.data.vertices), 3))
+    mesh_io.write_co(kb, co)
+    assert np.array_equal(read_key(obj, "k"), co.astype(np.float32).astype(np.float64))
+    kb.data[7].co = (1.5, -2.25, 0.125)
+    assert np.array_equal(mesh_io.read_co(kb)[7], [1.5, -2.25, 0.125])
+    assert np.array_equal(mesh_io.read_co(kb), read_key(obj, "k"))

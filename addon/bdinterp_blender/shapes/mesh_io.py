@@ -29,11 +29,19 @@ def key_block(key, name):
     return kb
 
 
+def points(kb):
+    """kb's points for foreach_get/foreach_set: ShapeKey.points where Blender has it (4.1 on),
+    which copies the array whole (0.1 ms at 100k vertices against 5-7 ms through kb.data, which
+    goes point by point; mesh keys only, as here)."""
+    return getattr(kb, "points", None) or kb.data
+
+
 def read_raw(kb):
     """kb's coordinates as Blender stores them: float32 (n*3,)."""
     import numpy as np
-    co = np.empty(len(kb.data) * 3, dtype=np.float32)
-    kb.data.foreach_get("co", co)
+    pts = points(kb)
+    co = np.empty(len(pts) * 3, dtype=np.float32)
+    pts.foreach_get("co", co)
     return co
 
 
@@ -85,7 +93,7 @@ def read_shown(obj, kb, raw):
 
 def write_co(kb, co):
     import numpy as np
-    kb.data.foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
+    points(kb).foreach_set("co", np.ascontiguousarray(co, dtype=np.float32).ravel())
 
 
 def triangles(mesh):
