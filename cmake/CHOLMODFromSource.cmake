@@ -54,7 +54,18 @@ find_package(OpenMP COMPONENTS C)
 if(OpenMP_C_FOUND)
   target_link_libraries(bdinterp_cholmod PRIVATE OpenMP::OpenMP_C)
 endif()
-if("Supernodal" IN_LIST _parts)
+if("Supernodal" IN_LIST _parts AND UNIX AND NOT APPLE)
+  # Its BLAS calls renamed (dgemm_ -> dgemmbdi_) and forwarded to the BLAS linked here, looked up
+  # in the module's own dependencies (cpp/src/linalg/blas_forward.c): by their plain names they
+  # bound to whatever BLAS the host process had loaded first. The BLAS stays a dependency of the
+  # module though nothing calls it by name.
+  find_package(Threads REQUIRED)
+  target_sources(bdinterp_cholmod PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/cpp/src/linalg/blas_forward.c")
+  target_include_directories(bdinterp_cholmod PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/cpp/src")
+  target_compile_definitions(bdinterp_cholmod PRIVATE BLAS64_SUFFIX=bdi INTERFACE BDINTERP_FORWARDED_BLAS)
+  target_link_libraries(bdinterp_cholmod PRIVATE -Wl,--no-as-needed ${LAPACK_LIBRARIES} ${BLAS_LIBRARIES}
+                        -Wl,--as-needed ${CMAKE_DL_LIBS} Threads::Threads)
+elseif("Supernodal" IN_LIST _parts)
   target_link_libraries(bdinterp_cholmod PRIVATE ${LAPACK_LIBRARIES} ${BLAS_LIBRARIES})
 endif()
 if(NOT WIN32)

@@ -15,6 +15,9 @@
 #include <vector>
 
 #include "parallel/parallel.h"
+#ifdef BDINTERP_FORWARDED_BLAS
+#include "linalg/blas_forward.h"
+#endif
 
 namespace bdinterp::parallel {
 namespace {
@@ -47,12 +50,20 @@ void* address_in(const Library& lib, const char* name) {
   return reinterpret_cast<void*>(GetProcAddress(static_cast<HMODULE>(lib.handle), name));
 }
 #else
-Library library_of(const char* symbol) {
-  void* f = dlsym(RTLD_DEFAULT, symbol);
+// The library that holds the function at `f`.
+Library library_at(void* f) {
   Dl_info info{};
   if (!f || !dladdr(f, &info) || !info.dli_fname) return {};
   void* h = dlopen(info.dli_fname, RTLD_LAZY | RTLD_NOLOAD);  // already loaded: no new library
   return h ? Library{h, info.dli_fname} : Library{};
+}
+
+Library library_of(const char* symbol) {
+#ifdef BDINTERP_FORWARDED_BLAS
+  // CHOLMOD's BLAS calls go through linalg/blas_forward.c, to the module's own BLAS.
+  if (void* f = bdinterp_blas_routine(symbol)) return library_at(f);
+#endif
+  return library_at(dlsym(RTLD_DEFAULT, symbol));
 }
 
 void* address_in(const Library& lib, const char* name) { return dlsym(lib.handle, name); }
