@@ -57,7 +57,7 @@ endif()
 if("Supernodal" IN_LIST _parts AND UNIX AND NOT APPLE)
   # Its BLAS calls renamed (dgemm_ -> dgemmbdi_) and forwarded to the BLAS linked here, looked up
   # in the module's own dependencies (cpp/src/linalg/blas_forward.c): by their plain names they
-  # bound to whatever BLAS the host process had loaded first. The BLAS stays a dependency of the
+  # would bind to whatever BLAS the host process loaded first. The BLAS stays a dependency of the
   # module though nothing calls it by name.
   find_package(Threads REQUIRED)
   target_sources(bdinterp_cholmod PRIVATE "${CMAKE_CURRENT_SOURCE_DIR}/cpp/src/linalg/blas_forward.c")

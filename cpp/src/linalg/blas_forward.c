@@ -1,11 +1,8 @@
-/* The BLAS and LAPACK calls of a CHOLMOD built from source (cmake/CHOLMODFromSource.cmake), made
- * to the BLAS this module was linked with. CHOLMOD's sources are compiled with BLAS64_SUFFIX=bdi, so
- * they call dgemmbdi_ rather than dgemm_; these functions (hidden, so bound inside the module) look
- * the real routine up in the module's own dependencies. Called by its plain name, the routine would
- * bind to the first definition in the process: a host that links another BLAS (Debian's Blender
- * links libblas.so.3, the reference BLAS where nothing else is installed) took CHOLMOD's calls, and a
- * supernodal factorisation at 100k rows took 1.4 times as long. Every argument of a Fortran BLAS
- * routine is a pointer, so each is forwarded by its count of pointers. */
+/* The BLAS calls of a CHOLMOD built from source, made to the BLAS this module links. CHOLMOD is
+ * compiled with BLAS64_SUFFIX=bdi (it calls dgemmbdi_, ...); these hidden functions forward each to
+ * the routine of the module's own dependencies. By its plain name a call would bind to the first
+ * definition in the process, e.g. the reference BLAS Debian's Blender links (docs/PLATFORMS.md).
+ * Every argument of a Fortran BLAS routine is a pointer: each is forwarded by its pointer count. */
 #define _GNU_SOURCE
 #include <dlfcn.h>
 #include <pthread.h>
